@@ -1,0 +1,410 @@
+/**
+ * @file ekf.c
+ * @brief EKF predict / sequential-scalar Joseph-form correct for the throttle valve.
+ */
+#include "ekf.h"
+
+#include "tv_status.h"
+
+#include <stddef.h>
+#include <string.h>
+
+typedef tv_real_t mat3_t[TVM_NX][TVM_NX];
+
+/* Matrices cross function boundaries as flat row-major pointers (C99 does not convert
+ * T (*)[3] to const T (*)[3] implicitly). */
+#define M3(A, r, c) ((A)[(r) * TVM_NX + (c)])
+
+static void mat3_copy(mat3_t dst, const tv_real_t *src)
+{
+    memcpy(&dst[0][0], src, sizeof(mat3_t));
+}
+
+static int all_finite(const tv_real_t *v, int n)
+{
+    int k;
+    for (k = 0; k < n; ++k) {
+        if (!TV_IS_FINITE(v[k])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/* Relative symmetry test: |A_ab - A_ba| <= 1e-6 * (|A_ab| + |A_ba|) (+ exact zero). */
+static int is_symmetric(const tv_real_t *A)
+{
+    int a;
+    int b;
+    for (a = 0; a < TVM_NX; ++a) {
+        for (b = a + 1; b < TVM_NX; ++b) {
+            const tv_real_t d = TV_FABS(M3(A, a, b) - M3(A, b, a));
+            if (d > TV_R(1e-6) * (TV_FABS(M3(A, a, b)) + TV_FABS(M3(A, b, a)))) {
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
+/* All principal minors of a symmetric 3x3 matrix: > 0 (strict) or >= -tol (semi). */
+static int principal_minors_ok(const tv_real_t *A, int strict)
+{
+    const tv_real_t m1[3] = {M3(A, 0, 0), M3(A, 1, 1), M3(A, 2, 2)};
+    const tv_real_t m2[3] = {M3(A, 0, 0) * M3(A, 1, 1) - M3(A, 0, 1) * M3(A, 1, 0),
+                             M3(A, 0, 0) * M3(A, 2, 2) - M3(A, 0, 2) * M3(A, 2, 0),
+                             M3(A, 1, 1) * M3(A, 2, 2) - M3(A, 1, 2) * M3(A, 2, 1)};
+    const tv_real_t det = M3(A, 0, 0) * (M3(A, 1, 1) * M3(A, 2, 2) - M3(A, 1, 2) * M3(A, 2, 1)) -
+                          M3(A, 0, 1) * (M3(A, 1, 0) * M3(A, 2, 2) - M3(A, 1, 2) * M3(A, 2, 0)) +
+                          M3(A, 0, 2) * (M3(A, 1, 0) * M3(A, 2, 1) - M3(A, 1, 1) * M3(A, 2, 0));
+    /* Tolerance for the semidefinite case: rounding in products of the diagonal scale. */
+    const tv_real_t scale = m1[0] * m1[1] * m1[2] + m1[0] * m1[1] + m1[0] * m1[2] + m1[1] * m1[2];
+    const tv_real_t tol = TV_R(1e-6) * scale;
+    int k;
+    if (strict) {
+        return m1[0] > TV_R(0.0) && m2[0] > TV_R(0.0) && det > TV_R(0.0);
+    }
+    for (k = 0; k < 3; ++k) {
+        if (m1[k] < TV_R(0.0) || m2[k] < -tol) {
+            return 0;
+        }
+    }
+    return det >= -tol;
+}
+
+/* Hold the variances inside [floor, ceil]; a ceiling scales row and column (keeps correlations). */
+static void apply_variance_bounds(mat3_t P, const tv_real_t floor_[TVM_NX], const tv_real_t ceil_[TVM_NX])
+{
+    int a;
+    int b;
+    for (a = 0; a < TVM_NX; ++a) {
+        if (P[a][a] < floor_[a]) {
+            P[a][a] = floor_[a];
+        } else if (P[a][a] > ceil_[a]) {
+            const tv_real_t s = TV_SQRT(ceil_[a] / P[a][a]);
+            for (b = 0; b < TVM_NX; ++b) {
+                P[a][b] *= s;
+                P[b][a] *= s;
+            }
+        }
+    }
+}
+
+/* Finite, positive diagonal, |P_ab| <= sqrt(P_aa P_bb) (a cheap necessary condition of PSD). */
+static int covariance_sane(const tv_real_t *P)
+{
+    int a;
+    int b;
+    if (!all_finite(P, TVM_NX * TVM_NX)) {
+        return 0;
+    }
+    for (a = 0; a < TVM_NX; ++a) {
+        if (!(M3(P, a, a) > TV_R(0.0))) {
+            return 0;
+        }
+        for (b = a + 1; b < TVM_NX; ++b) {
+            if (M3(P, a, b) * M3(P, a, b) > M3(P, a, a) * M3(P, b, b) * TV_R(1.0001)) {
+                return 0;
+            }
+        }
+    }
+    return 1;
+}
+
+void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
+{
+    tvm_params_t p;
+    int a;
+    if (cfg == NULL) {
+        return;
+    }
+    memset(cfg, 0, sizeof *cfg);
+    cfg->setup = setup;
+    cfg->P0[0][0] = TV_R(1.0);
+    cfg->P0[1][1] = TV_R(100.0);
+    cfg->P0[2][2] = TV_R(0.01);
+    tvm_params_default(&p);
+    (void)ekf_q_from_spectral(&p, EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S, cfg->Q);
+    cfg->r[EKF_CH_CURRENT] = TV_R(1e-4);
+    cfg->r[EKF_CH_VELOCITY] = TV_R(1.0);
+    cfg->r[EKF_CH_ANGLE] = TV_R(2e-8);
+    for (a = 0; a < TVM_NX; ++a) {
+        cfg->var_floor[a] = TV_R(1e-12);
+    }
+    cfg->var_ceil[TVM_I] = TV_R(1e4);
+    cfg->var_ceil[TVM_W] = TV_R(1e6);
+    cfg->var_ceil[TVM_PHI] = TV_R(10.0);
+    cfg->u_abs_max_V = TV_R(60.0);
+    cfg->i_abs_max_A = TV_R(50.0);
+    cfg->w_abs_max_rad_s = TV_R(500.0);
+    cfg->phi_min_rad = TV_R(-1.0);
+    cfg->phi_max_rad = TV_R(2.5);
+}
+
+void ekf_config_paper(ekf_config_t *cfg)
+{
+    int a;
+    int b;
+    if (cfg == NULL) {
+        return;
+    }
+    ekf_config_default(cfg, EKF_SETUP_PAPER_3MEAS);
+    for (a = 0; a < TVM_NX; ++a) {
+        cfg->x0[a] = TV_R(0.0);
+        for (b = 0; b < TVM_NX; ++b) {
+            cfg->P0[a][b] = a == b ? TV_R(100.0) : TV_R(0.0);
+            cfg->Q[a][b] = a == b ? TV_R(0.01) : TV_R(0.0);
+        }
+    }
+    cfg->r[EKF_CH_CURRENT] = TV_R(1e-4);
+    cfg->r[EKF_CH_VELOCITY] = TV_R(1.0);
+    cfg->r[EKF_CH_ANGLE] = TV_R(1e-8);
+}
+
+int ekf_q_from_spectral(const tvm_params_t *p, tv_real_t qu_V2_s, tv_real_t qT_Nm2_s,
+                        tv_real_t Q[TVM_NX][TVM_NX])
+{
+    tv_real_t Ts;
+    tv_real_t g;
+    if (p == NULL || Q == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!TV_IS_FINITE(qu_V2_s) || !TV_IS_FINITE(qT_Nm2_s) || !TV_IS_FINITE(p->Ts_s) ||
+        !TV_IS_FINITE(p->L_H) || !TV_IS_FINITE(p->J_kg_m2)) {
+        return TV_ERR_NONFINITE;
+    }
+    if (qu_V2_s < TV_R(0.0) || qT_Nm2_s < TV_R(0.0) || !(p->Ts_s > TV_R(0.0)) || !(p->L_H > TV_R(0.0)) ||
+        !(p->J_kg_m2 > TV_R(0.0))) {
+        return TV_ERR_CONFIG;
+    }
+    Ts = p->Ts_s;
+    g = qT_Nm2_s / (p->J_kg_m2 * p->J_kg_m2);
+    memset(Q, 0, sizeof(mat3_t));
+    Q[TVM_I][TVM_I] = qu_V2_s * Ts / (p->L_H * p->L_H);
+    Q[TVM_W][TVM_W] = g * Ts;
+    Q[TVM_W][TVM_PHI] = g * Ts * Ts / TV_R(2.0);
+    Q[TVM_PHI][TVM_W] = Q[TVM_W][TVM_PHI];
+    Q[TVM_PHI][TVM_PHI] = g * Ts * Ts * Ts / TV_R(3.0);
+    return TV_OK;
+}
+
+int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
+{
+    tvm_t model;
+    int rc;
+    int a;
+    if (ekf == NULL || params == NULL || cfg == NULL) {
+        return TV_ERR_NULL;
+    }
+    rc = tvm_init(&model, params);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    if (!all_finite(cfg->x0, TVM_NX) || !all_finite(&cfg->P0[0][0], TVM_NX * TVM_NX) ||
+        !all_finite(&cfg->Q[0][0], TVM_NX * TVM_NX) || !all_finite(cfg->r, EKF_NCH) ||
+        !all_finite(cfg->var_floor, TVM_NX) || !all_finite(cfg->var_ceil, TVM_NX) ||
+        !TV_IS_FINITE(cfg->u_abs_max_V) || !TV_IS_FINITE(cfg->i_abs_max_A) ||
+        !TV_IS_FINITE(cfg->w_abs_max_rad_s) || !TV_IS_FINITE(cfg->phi_min_rad) ||
+        !TV_IS_FINITE(cfg->phi_max_rad)) {
+        return TV_ERR_NONFINITE;
+    }
+    if (cfg->setup != EKF_SETUP_CURRENT_ANGLE && cfg->setup != EKF_SETUP_PAPER_3MEAS) {
+        return TV_ERR_CONFIG;
+    }
+    for (a = 0; a < EKF_NCH; ++a) {
+        if (!(cfg->r[a] > TV_R(0.0))) {
+            return TV_ERR_CONFIG;
+        }
+    }
+    for (a = 0; a < TVM_NX; ++a) {
+        if (cfg->var_floor[a] < TV_R(0.0) || !(cfg->var_ceil[a] > cfg->var_floor[a])) {
+            return TV_ERR_CONFIG;
+        }
+    }
+    if (!(cfg->u_abs_max_V > TV_R(0.0)) || !(cfg->i_abs_max_A > TV_R(0.0)) ||
+        !(cfg->w_abs_max_rad_s > TV_R(0.0)) || !(cfg->phi_max_rad > cfg->phi_min_rad)) {
+        return TV_ERR_CONFIG;
+    }
+    if (!is_symmetric(&cfg->P0[0][0]) || !principal_minors_ok(&cfg->P0[0][0], 1) ||
+        !is_symmetric(&cfg->Q[0][0]) || !principal_minors_ok(&cfg->Q[0][0], 0)) {
+        return TV_ERR_CONFIG;
+    }
+    memset(ekf, 0, sizeof *ekf);
+    ekf->model = model;
+    ekf->cfg = *cfg;
+    memcpy(ekf->x, cfg->x0, sizeof ekf->x);
+    mat3_copy(ekf->P, &cfg->P0[0][0]);
+    return TV_OK;
+}
+
+int ekf_predict(ekf_t *ekf, tv_real_t u_V)
+{
+    tv_real_t xn[TVM_NX];
+    mat3_t F;
+    mat3_t FP;
+    mat3_t Pn;
+    int a;
+    int b;
+    if (ekf == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!TV_IS_FINITE(u_V)) {
+        ++ekf->n_rejected;
+        return TV_ERR_NONFINITE;
+    }
+    if (TV_FABS(u_V) > ekf->cfg.u_abs_max_V) {
+        ++ekf->n_rejected;
+        return TV_ERR_RANGE;
+    }
+    tvm_step(&ekf->model, ekf->x, u_V, xn, F);
+    /* FP = F P */
+    for (a = 0; a < TVM_NX; ++a) {
+        for (b = 0; b < TVM_NX; ++b) {
+            FP[a][b] = F[a][0] * ekf->P[0][b] + F[a][1] * ekf->P[1][b] + F[a][2] * ekf->P[2][b];
+        }
+    }
+    /* Pn = FP F^T + Q, upper triangle computed once and mirrored: exactly symmetric. */
+    for (a = 0; a < TVM_NX; ++a) {
+        for (b = a; b < TVM_NX; ++b) {
+            const tv_real_t v = FP[a][0] * F[b][0] + FP[a][1] * F[b][1] + FP[a][2] * F[b][2];
+            const tv_real_t q = (ekf->cfg.Q[a][b] + ekf->cfg.Q[b][a]) * TV_R(0.5);
+            Pn[a][b] = v + q;
+            Pn[b][a] = Pn[a][b];
+        }
+    }
+    apply_variance_bounds(Pn, ekf->cfg.var_floor, ekf->cfg.var_ceil);
+    if (!all_finite(xn, TVM_NX) || !covariance_sane(&Pn[0][0])) {
+        ++ekf->n_rejected;
+        return TV_ERR_NUMERIC;
+    }
+    memcpy(ekf->x, xn, sizeof xn);
+    mat3_copy(ekf->P, &Pn[0][0]);
+    ++ekf->n_predict;
+    return TV_OK;
+}
+
+/* Validate one measurement channel against its limits. */
+static int check_channel(const ekf_config_t *cfg, int ch, tv_real_t z)
+{
+    if (!TV_IS_FINITE(z)) {
+        return TV_ERR_NONFINITE;
+    }
+    switch (ch) {
+    case EKF_CH_CURRENT:
+        return TV_FABS(z) <= cfg->i_abs_max_A ? TV_OK : TV_ERR_RANGE;
+    case EKF_CH_VELOCITY:
+        return TV_FABS(z) <= cfg->w_abs_max_rad_s ? TV_OK : TV_ERR_RANGE;
+    default:
+        return (z >= cfg->phi_min_rad && z <= cfg->phi_max_rad) ? TV_OK : TV_ERR_RANGE;
+    }
+}
+
+/*
+ * One scalar update with H = e_j (the channel observes state j directly), Joseph form:
+ *   A = (I - K e_j^T) P        A_ab = P_ab - K_a P_jb
+ *   P = A (I - K e_j^T)^T + r K K^T,   P_ab = A_ab - A_aj K_b + r K_a K_b
+ * then symmetrised. Returns 0 on a non-positive innovation variance.
+ */
+static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, int j, tv_real_t z, tv_real_t r,
+                         tv_real_t *innov, tv_real_t *innov_var)
+{
+    tv_real_t K[TVM_NX];
+    mat3_t A;
+    const tv_real_t s = P[j][j] + r;
+    const tv_real_t y = z - x[j];
+    int a;
+    int b;
+    if (!(s > TV_R(0.0))) {
+        return 0;
+    }
+    for (a = 0; a < TVM_NX; ++a) {
+        K[a] = P[a][j] / s;
+    }
+    for (a = 0; a < TVM_NX; ++a) {
+        for (b = 0; b < TVM_NX; ++b) {
+            A[a][b] = P[a][b] - K[a] * P[j][b];
+        }
+    }
+    for (a = 0; a < TVM_NX; ++a) {
+        for (b = a; b < TVM_NX; ++b) {
+            const tv_real_t vab = A[a][b] - A[a][j] * K[b] + r * K[a] * K[b];
+            const tv_real_t vba = A[b][a] - A[b][j] * K[a] + r * K[b] * K[a];
+            P[a][b] = (vab + vba) * TV_R(0.5);
+            P[b][a] = P[a][b];
+        }
+    }
+    for (a = 0; a < TVM_NX; ++a) {
+        x[a] += K[a] * y;
+    }
+    *innov = y;
+    *innov_var = s;
+    return 1;
+}
+
+int ekf_correct(ekf_t *ekf, const ekf_meas_t *meas, ekf_innov_t *out)
+{
+    static const int channel_state[EKF_NCH] = {TVM_I, TVM_W, TVM_PHI};
+    ekf_innov_t res;
+    tv_real_t x[TVM_NX];
+    mat3_t P;
+    uint8_t use[EKF_NCH];
+    int ch;
+    if (out != NULL) {
+        memset(out, 0, sizeof *out);
+    }
+    if (ekf == NULL || meas == NULL) {
+        return TV_ERR_NULL;
+    }
+    use[EKF_CH_CURRENT] = 1;
+    use[EKF_CH_VELOCITY] = ekf->cfg.setup == EKF_SETUP_PAPER_3MEAS ? 1 : 0;
+    use[EKF_CH_ANGLE] = 1;
+    /* Validate every used channel before touching anything. */
+    for (ch = 0; ch < EKF_NCH; ++ch) {
+        if (use[ch]) {
+            const int rc = check_channel(&ekf->cfg, ch, meas->z[ch]);
+            if (rc != TV_OK) {
+                ++ekf->n_rejected;
+                return rc;
+            }
+        }
+    }
+    memset(&res, 0, sizeof res);
+    memcpy(x, ekf->x, sizeof x);
+    mat3_copy(P, &ekf->P[0][0]);
+    for (ch = 0; ch < EKF_NCH; ++ch) {
+        if (use[ch]) {
+            if (!scalar_update(x, P, channel_state[ch], meas->z[ch], ekf->cfg.r[ch], &res.innov[ch],
+                               &res.innov_var[ch])) {
+                ++ekf->n_rejected;
+                return TV_ERR_NUMERIC;
+            }
+            res.nis[ch] = res.innov[ch] * res.innov[ch] / res.innov_var[ch];
+            res.nis_total += res.nis[ch];
+            res.used[ch] = 1;
+            ++res.n_used;
+        }
+    }
+    apply_variance_bounds(P, ekf->cfg.var_floor, ekf->cfg.var_ceil);
+    if (!all_finite(x, TVM_NX) || !covariance_sane(&P[0][0]) || !TV_IS_FINITE(res.nis_total)) {
+        ++ekf->n_rejected;
+        return TV_ERR_NUMERIC;
+    }
+    memcpy(ekf->x, x, sizeof x);
+    mat3_copy(ekf->P, &P[0][0]);
+    ++ekf->n_correct;
+    if (out != NULL) {
+        *out = res;
+    }
+    return TV_OK;
+}
+
+void ekf_sigma(const ekf_t *ekf, tv_real_t sigma[TVM_NX])
+{
+    int a;
+    if (ekf == NULL || sigma == NULL) {
+        return;
+    }
+    for (a = 0; a < TVM_NX; ++a) {
+        sigma[a] = TV_SQRT(ekf->P[a][a]);
+    }
+}

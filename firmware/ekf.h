@@ -1,0 +1,149 @@
+/**
+ * @file ekf.h
+ * @brief Extended Kalman filter for the throttle valve: 3 fixed states (i, w, phi), no heap, no
+ *        globals, state in a caller-owned struct.
+ *
+ * Cycle per sample k: ekf_predict(u(k-1)) then ekf_correct(z(k)). Prediction propagates the
+ * state through the nonlinear map f of tv_model.h (not its linearisation: MODEL.md erratum 4)
+ * and the covariance through its analytic Jacobian F: P = F P F^T + Q.
+ * Correction: measurements are direct observations of states (H rows are unit vectors) with a
+ * diagonal R, processed as sequential scalar updates in Joseph form
+ *     P = (I - K H) P (I - K H)^T + K r K^T
+ * with P symmetrised afterwards. Per channel the innovation y, its variance s = P_jj + r and the
+ * normalised innovation squared y^2 / s are returned; their sum over channels equals the
+ * vector NIS y^T S^-1 y (chi-square with as many degrees of freedom as channels used).
+ *
+ * Robustness: every input (u, measurements) is checked before anything is changed; a NaN,
+ * +-Inf or out-of-range value returns an error and leaves x and P exactly as they were. After
+ * each predict and correct the variances are held inside [var_floor, var_ceil]: a floor adds to
+ * the diagonal, a ceiling scales the row and column, both keep P positive definite.
+ */
+#ifndef EKF_H
+#define EKF_H
+
+#include <stdint.h>
+
+#include "tv_model.h"
+#include "tv_real.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/**
+ * Default continuous process-noise densities (see ekf_q_from_spectral()): voltage noise on the
+ * armature [V^2 s] and torque noise on the plate [N^2 m^2 s]. Chosen by the NEES-calibration
+ * procedure described in the README (Monte Carlo against the host_sim plant).
+ */
+#define EKF_DEFAULT_QU_V2_S TV_R(1.0e-6)
+#define EKF_DEFAULT_QT_NM2_S TV_R(2.5e-6)
+
+/** Measurement channels (indices into measurement arrays). */
+enum { EKF_CH_CURRENT = 0, EKF_CH_VELOCITY = 1, EKF_CH_ANGLE = 2, EKF_NCH = 3 };
+
+/** Which measurements the filter uses. */
+typedef enum {
+    /** current + angle; velocity estimated (the sound set-up, default) */
+    EKF_SETUP_CURRENT_ANGLE = 0,
+    /** the paper's set-up: current + velocity differentiated from the angle + angle */
+    EKF_SETUP_PAPER_3MEAS = 1
+} ekf_setup_t;
+
+/** Filter configuration: initial state, noise model, limits. Units are those of the states. */
+typedef struct {
+    ekf_setup_t setup;                  /**< measurement set-up */
+    tv_real_t x0[TVM_NX];               /**< initial state (A, rad/s, rad) */
+    tv_real_t P0[TVM_NX][TVM_NX];       /**< initial covariance (variances, A^2, (rad/s)^2, rad^2), symmetric PD */
+    tv_real_t Q[TVM_NX][TVM_NX];        /**< process noise covariance per Ts, symmetric PSD */
+    tv_real_t r[EKF_NCH];               /**< measurement noise VARIANCES per channel: A^2, (rad/s)^2, rad^2; > 0 */
+    tv_real_t var_floor[TVM_NX];        /**< lower bound on each state variance, >= 0 */
+    tv_real_t var_ceil[TVM_NX];         /**< upper bound on each state variance, > var_floor */
+    tv_real_t u_abs_max_V;              /**< |u| above this is rejected [V] */
+    tv_real_t i_abs_max_A;              /**< |current measurement| above this is rejected [A] */
+    tv_real_t w_abs_max_rad_s;          /**< |velocity measurement| above this is rejected [rad/s] */
+    tv_real_t phi_min_rad;              /**< angle measurements below this are rejected [rad] */
+    tv_real_t phi_max_rad;              /**< angle measurements above this are rejected [rad] */
+} ekf_config_t;
+
+/** Filter state. Allocate it anywhere (static, stack); initialise with ekf_init(). */
+typedef struct {
+    tvm_t model;                        /**< the prediction map */
+    ekf_config_t cfg;                   /**< configuration in force */
+    tv_real_t x[TVM_NX];                /**< state estimate (A, rad/s, rad) */
+    tv_real_t P[TVM_NX][TVM_NX];        /**< estimate covariance (variances) */
+    uint32_t n_predict;                 /**< accepted predictions */
+    uint32_t n_correct;                 /**< accepted corrections */
+    uint32_t n_rejected;                /**< calls rejected for bad input or numerical failure */
+} ekf_t;
+
+/** Measurement vector for one sample; the velocity entry is ignored in EKF_SETUP_CURRENT_ANGLE. */
+typedef struct {
+    tv_real_t z[EKF_NCH];               /**< current [A], velocity [rad/s], angle [rad] */
+} ekf_meas_t;
+
+/** What one correction saw, per channel. Unused channels have used = 0 and zeros elsewhere. */
+typedef struct {
+    tv_real_t innov[EKF_NCH];           /**< innovation y = z - x_pred (units of the channel) */
+    tv_real_t innov_var[EKF_NCH];       /**< innovation VARIANCE s = P_jj + r at the time of that scalar update */
+    tv_real_t nis[EKF_NCH];             /**< y^2 / s [-] */
+    tv_real_t nis_total;                /**< sum of nis over used channels = y^T S^-1 y [-] */
+    uint8_t used[EKF_NCH];              /**< 1 where the channel was used */
+    uint8_t n_used;                     /**< number of channels used (the chi-square dof) */
+} ekf_innov_t;
+
+/**
+ * Defaults for a set-up: x0 = 0, P0 = diag(1, 100, 0.01), Q from ekf_q_from_spectral() with the
+ * densities tuned for the paper's actuator (see README), r = (1e-4 A^2, 1 (rad/s)^2, 2e-8 rad^2),
+ * floors 1e-12, ceilings (1e4 A^2, 1e6 (rad/s)^2, 10 rad^2), limits |u| <= 60 V, |i| <= 50 A,
+ * |w| <= 500 rad/s, -1 <= phi <= 2.5 rad.
+ */
+void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup);
+
+/**
+ * The paper's configuration (section 3.3): 3 measurements, x0 = 0, P0 = 100 I, Q = 0.01 I,
+ * R = diag(1e-4, 1, 1e-8); limits and bounds as in ekf_config_default().
+ */
+void ekf_config_paper(ekf_config_t *cfg);
+
+/**
+ * Process noise Q over one period Ts from continuous white-noise densities: a voltage noise of
+ * density qu_V2_s [V^2 s] on the armature and a torque noise of density qT_Nm2_s [N^2 m^2 s] on
+ * the plate. Q_ii = qu Ts / L^2; the (w, phi) block is qT/J^2 [[Ts, Ts^2/2], [Ts^2/2, Ts^3/3]]
+ * (white torque integrated twice), so Q couples velocity and angle the way a torque does.
+ * @return TV_OK, TV_ERR_NULL, TV_ERR_NONFINITE, TV_ERR_CONFIG (negative density or bad params).
+ */
+int ekf_q_from_spectral(const tvm_params_t *p, tv_real_t qu_V2_s, tv_real_t qT_Nm2_s,
+                        tv_real_t Q[TVM_NX][TVM_NX]);
+
+/**
+ * Validate the configuration and parameters, build the model, set x = x0, P = P0.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE; TV_ERR_CONFIG when a value is out of its
+ *         documented range or P0 is not symmetric positive definite or Q not symmetric PSD.
+ *         On error *ekf is not written.
+ */
+int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg);
+
+/**
+ * Time update over one period Ts with the input u held.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE (u NaN/Inf); TV_ERR_RANGE (|u| > u_abs_max_V);
+ *         TV_ERR_NUMERIC (prediction not finite). On any error x and P are unchanged.
+ */
+int ekf_predict(ekf_t *ekf, tv_real_t u_V);
+
+/**
+ * Measurement update with the channels of the configured set-up.
+ * @param out may be NULL; when given it is filled on success and zeroed on error.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE (a used channel NaN/Inf); TV_ERR_RANGE (a used
+ *         channel outside its limit); TV_ERR_NUMERIC (non-positive innovation variance or a
+ *         non-finite result). On any error x and P are unchanged.
+ */
+int ekf_correct(ekf_t *ekf, const ekf_meas_t *meas, ekf_innov_t *out);
+
+/** Standard deviations sqrt(P_ii) of the estimate (A, rad/s, rad). */
+void ekf_sigma(const ekf_t *ekf, tv_real_t sigma[TVM_NX]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* EKF_H */

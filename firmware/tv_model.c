@@ -1,0 +1,259 @@
+/**
+ * @file tv_model.c
+ * @brief Throttle-valve model and the sub-stepped, implicit-friction prediction map with its
+ *        analytic Jacobian. The map is specified in tv_model.h.
+ */
+#include "tv_model.h"
+
+#include "tv_status.h"
+
+#include <stddef.h>
+
+void tvm_params_default(tvm_params_t *p)
+{
+    if (p == NULL) {
+        return;
+    }
+    p->R_ohm = TV_R(4.3);
+    p->L_H = TV_R(0.002);
+    p->Ke_V_s_rad = TV_R(0.017);
+    p->Kt_Nm_A = TV_R(0.017);
+    p->J_kg_m2 = TV_R(0.0016);
+    p->n_gear = TV_R(40.0);
+    p->Mc_Nm = TV_R(0.2);
+    p->M0_Nm = TV_R(0.25);
+    p->c_Nm_rad = TV_R(0.059);
+    p->Kv_Nm_s_rad = TV_R(0.01);
+    p->Ms_Nm = TV_R(0.3);
+    p->ws_rad_s = TV_R(1.0);
+    p->phi_closed_rad = TV_R(-0.10);
+    p->phi_open_rad = TV_R(1.3660603); /* -0.10 + 84 deg */
+    p->k_stop_Nm_rad = TV_R(1.0e4);
+    p->d_stop_Nm_s_rad = TV_R(2.4);
+    p->e_phi_rad = TV_R(1.0e-3);
+    p->e_w_rad_s = TV_R(1.0e-3);
+    p->Ts_s = TV_R(1.0e-3);
+    p->substeps = 10;
+}
+
+static int positive(tv_real_t v) { return v > TV_R(0.0); }
+static int nonneg(tv_real_t v) { return v >= TV_R(0.0); }
+
+int tvm_init(tvm_t *m, const tvm_params_t *p)
+{
+    if (m == NULL || p == NULL) {
+        return TV_ERR_NULL;
+    }
+    {
+        const tv_real_t vals[] = {p->R_ohm,          p->L_H,           p->Ke_V_s_rad,    p->Kt_Nm_A,
+                                  p->J_kg_m2,        p->n_gear,        p->Mc_Nm,         p->M0_Nm,
+                                  p->c_Nm_rad,       p->Kv_Nm_s_rad,   p->Ms_Nm,         p->ws_rad_s,
+                                  p->phi_closed_rad, p->phi_open_rad,  p->k_stop_Nm_rad, p->d_stop_Nm_s_rad,
+                                  p->e_phi_rad,      p->e_w_rad_s,     p->Ts_s};
+        size_t k;
+        for (k = 0; k < sizeof vals / sizeof vals[0]; ++k) {
+            if (!TV_IS_FINITE(vals[k])) {
+                return TV_ERR_NONFINITE;
+            }
+        }
+    }
+    if (!positive(p->R_ohm) || !positive(p->L_H) || !nonneg(p->Ke_V_s_rad) || !nonneg(p->Kt_Nm_A) ||
+        !positive(p->J_kg_m2) || !positive(p->n_gear) || !nonneg(p->Mc_Nm) || !nonneg(p->M0_Nm) ||
+        !nonneg(p->c_Nm_rad) || !nonneg(p->Kv_Nm_s_rad) || p->Ms_Nm < p->Mc_Nm || !positive(p->ws_rad_s) ||
+        !(p->phi_closed_rad < TV_R(0.0)) || !(p->phi_open_rad > TV_R(0.0)) || !nonneg(p->k_stop_Nm_rad) ||
+        !nonneg(p->d_stop_Nm_s_rad) || !positive(p->e_phi_rad) || !positive(p->e_w_rad_s) ||
+        !positive(p->Ts_s) || p->substeps < 1 || p->substeps > TVM_SUBSTEPS_MAX) {
+        return TV_ERR_CONFIG;
+    }
+    m->p = *p;
+    m->h_s = p->Ts_s / (tv_real_t)p->substeps;
+    m->a = TV_EXP(-p->R_ohm * m->h_s / p->L_H);
+    m->b_A_V = (TV_R(1.0) - m->a) / p->R_ohm;
+    m->h_J = m->h_s / p->J_kg_m2;
+    m->kappa = TV_R(1.0) / (TV_R(1.0) + m->h_J * p->Kv_Nm_s_rad);
+    m->nKt_Nm_A = p->n_gear * p->Kt_Nm_A;
+    m->nKe_V_s = p->n_gear * p->Ke_V_s_rad;
+    return TV_OK;
+}
+
+/* |w|_e = sqrt(w^2 + e^2) - e and its derivative w / sqrt(w^2 + e^2). */
+static tv_real_t smooth_abs(tv_real_t w, tv_real_t e, tv_real_t *d_dw)
+{
+    const tv_real_t r = TV_SQRT(w * w + e * e);
+    if (d_dw != NULL) {
+        *d_dw = w / r;
+    }
+    return r - e;
+}
+
+/* g(w) and dg/dw. */
+static tv_real_t friction_level(const tvm_t *m, tv_real_t w, tv_real_t *dg_dw)
+{
+    tv_real_t dabs;
+    const tv_real_t aw = smooth_abs(w, m->p.e_w_rad_s, &dabs);
+    const tv_real_t ex = TV_EXP(-aw / m->p.ws_rad_s);
+    const tv_real_t dM = m->p.Ms_Nm - m->p.Mc_Nm;
+    if (dg_dw != NULL) {
+        *dg_dw = -dM / m->p.ws_rad_s * ex * dabs;
+    }
+    return m->p.Mc_Nm + dM * ex;
+}
+
+tv_real_t tvm_friction_level(const tvm_t *m, tv_real_t w_rad_s)
+{
+    return friction_level(m, w_rad_s, NULL);
+}
+
+/* Stop torque and its partial derivatives (positive = opening). */
+static tv_real_t stop_torque(const tvm_t *m, tv_real_t phi, tv_real_t w, tv_real_t *dT_dphi,
+                             tv_real_t *dT_dw)
+{
+    const tv_real_t k = m->p.k_stop_Nm_rad;
+    const tv_real_t d = m->p.d_stop_Nm_s_rad;
+    tv_real_t torque = TV_R(0.0);
+    tv_real_t dphi = TV_R(0.0);
+    tv_real_t dw = TV_R(0.0);
+    if (phi < m->p.phi_closed_rad) {
+        const tv_real_t push = k * (m->p.phi_closed_rad - phi) - d * w;
+        if (push > TV_R(0.0)) {
+            torque = push;
+            dphi = -k;
+            dw = -d;
+        }
+    } else if (phi > m->p.phi_open_rad) {
+        const tv_real_t push = k * (phi - m->p.phi_open_rad) + d * w;
+        if (push > TV_R(0.0)) {
+            torque = -push;
+            dphi = -k;
+            dw = -d;
+        }
+    }
+    if (dT_dphi != NULL) {
+        *dT_dphi = dphi;
+    }
+    if (dT_dw != NULL) {
+        *dT_dw = dw;
+    }
+    return torque;
+}
+
+tv_real_t tvm_stop_torque(const tvm_t *m, tv_real_t phi_rad, tv_real_t w_rad_s)
+{
+    return stop_torque(m, phi_rad, w_rad_s, NULL, NULL);
+}
+
+/* Smoothed preload sign sp(phi) = phi / sqrt(phi^2 + e^2) and its derivative e^2 / r^3. */
+static tv_real_t preload_sign(tv_real_t phi, tv_real_t e, tv_real_t *d_dphi)
+{
+    const tv_real_t r = TV_SQRT(phi * phi + e * e);
+    if (d_dphi != NULL) {
+        *d_dphi = (e * e) / (r * r * r);
+    }
+    return phi / r;
+}
+
+void tvm_deriv(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_t dxdt[TVM_NX])
+{
+    const tv_real_t i = x[TVM_I];
+    const tv_real_t w = x[TVM_W];
+    const tv_real_t phi = x[TVM_PHI];
+    const tv_real_t sw = w / TV_SQRT(w * w + m->p.e_w_rad_s * m->p.e_w_rad_s);
+    const tv_real_t mf = friction_level(m, w, NULL) * sw + m->p.Kv_Nm_s_rad * w;
+    const tv_real_t torque = m->nKt_Nm_A * i - m->p.M0_Nm * preload_sign(phi, m->p.e_phi_rad, NULL) -
+                             m->p.c_Nm_rad * phi - mf + stop_torque(m, phi, w, NULL, NULL);
+    dxdt[TVM_I] = (u_V - m->p.R_ohm * i - m->nKe_V_s * w) / m->p.L_H;
+    dxdt[TVM_W] = torque / m->p.J_kg_m2;
+    dxdt[TVM_PHI] = w;
+}
+
+/* C = A * B for 3x3 matrices (C must not alias A or B). */
+static void mat3_mul(tv_real_t A[TVM_NX][TVM_NX], tv_real_t B[TVM_NX][TVM_NX], tv_real_t C[TVM_NX][TVM_NX])
+{
+    int r;
+    int c;
+    for (r = 0; r < TVM_NX; ++r) {
+        for (c = 0; c < TVM_NX; ++c) {
+            C[r][c] = A[r][0] * B[0][c] + A[r][1] * B[1][c] + A[r][2] * B[2][c];
+        }
+    }
+}
+
+void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_t x_next[TVM_NX],
+              tv_real_t F[TVM_NX][TVM_NX])
+{
+    const tvm_params_t *p = &m->p;
+    tv_real_t i = x[TVM_I];
+    tv_real_t w = x[TVM_W];
+    tv_real_t phi = x[TVM_PHI];
+    tv_real_t Fa[TVM_NX][TVM_NX] = {{TV_R(1.0), TV_R(0.0), TV_R(0.0)},
+                                    {TV_R(0.0), TV_R(1.0), TV_R(0.0)},
+                                    {TV_R(0.0), TV_R(0.0), TV_R(1.0)}};
+    int k;
+
+    for (k = 0; k < p->substeps; ++k) {
+        tv_real_t dsp;
+        tv_real_t dMs_dphi;
+        tv_real_t dMs_dw;
+        tv_real_t dg_dw;
+        const tv_real_t i1 = m->a * i + m->b_A_V * (u_V - m->nKe_V_s * w);
+        const tv_real_t sp = preload_sign(phi, p->e_phi_rad, &dsp);
+        const tv_real_t mstop = stop_torque(m, phi, w, &dMs_dphi, &dMs_dw);
+        const tv_real_t torque = m->nKt_Nm_A * i1 - p->M0_Nm * sp - p->c_Nm_rad * phi + mstop;
+        const tv_real_t z = w + m->h_J * torque;
+        const tv_real_t D = m->h_J * friction_level(m, w, &dg_dw);
+        const tv_real_t az = TV_FABS(z);
+        const int slipping = az > D;
+        const tv_real_t sz = z >= TV_R(0.0) ? TV_R(1.0) : TV_R(-1.0);
+        const tv_real_t w1 = slipping ? m->kappa * sz * (az - D) : TV_R(0.0);
+        const tv_real_t phi1 = phi + m->h_s * w1;
+
+        if (F != NULL) {
+            /* Sub-step Jacobian S = d(i1, w1, phi1)/d(i, w, phi). */
+            tv_real_t S[TVM_NX][TVM_NX];
+            tv_real_t T[TVM_NX][TVM_NX];
+            const tv_real_t di1_dw = -m->b_A_V * m->nKe_V_s;
+            const tv_real_t dT_di = m->nKt_Nm_A * m->a;
+            const tv_real_t dT_dw = m->nKt_Nm_A * di1_dw + dMs_dw;
+            const tv_real_t dT_dphi = -p->M0_Nm * dsp - p->c_Nm_rad + dMs_dphi;
+            int r;
+            int c;
+            S[0][0] = m->a;
+            S[0][1] = di1_dw;
+            S[0][2] = TV_R(0.0);
+            if (slipping) {
+                /* w1 = kappa (z - sz D(w)) */
+                S[1][0] = m->kappa * (m->h_J * dT_di);
+                S[1][1] = m->kappa * (TV_R(1.0) + m->h_J * dT_dw - sz * m->h_J * dg_dw);
+                S[1][2] = m->kappa * (m->h_J * dT_dphi);
+            } else {
+                S[1][0] = TV_R(0.0);
+                S[1][1] = TV_R(0.0);
+                S[1][2] = TV_R(0.0);
+            }
+            S[2][0] = m->h_s * S[1][0];
+            S[2][1] = m->h_s * S[1][1];
+            S[2][2] = TV_R(1.0) + m->h_s * S[1][2];
+            mat3_mul(S, Fa, T);
+            for (r = 0; r < TVM_NX; ++r) {
+                for (c = 0; c < TVM_NX; ++c) {
+                    Fa[r][c] = T[r][c];
+                }
+            }
+        }
+        i = i1;
+        w = w1;
+        phi = phi1;
+    }
+    x_next[TVM_I] = i;
+    x_next[TVM_W] = w;
+    x_next[TVM_PHI] = phi;
+    if (F != NULL) {
+        int r;
+        int c;
+        for (r = 0; r < TVM_NX; ++r) {
+            for (c = 0; c < TVM_NX; ++c) {
+                F[r][c] = Fa[r][c];
+            }
+        }
+    }
+}

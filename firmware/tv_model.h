@@ -1,0 +1,152 @@
+/**
+ * @file tv_model.h
+ * @brief Throttle-valve model: parameters, continuous dynamics, and the discrete prediction map
+ *        used by the EKF together with its analytic Jacobian.
+ *
+ * States (plate side of the gearbox, SI units):
+ *   x[0] = i    armature current                        [A]
+ *   x[1] = w    plate angular velocity                  [rad/s]
+ *   x[2] = phi  plate angle, 0 at limp-home, + opening  [rad]
+ * Input: u = armature voltage (H-bridge duty x supply)  [V]
+ *
+ * Continuous model (MODEL.md, paper eqs. 1-3 with the gear ratio in the torque):
+ *   L di/dt   = u - R i - Ke n w
+ *   J dw/dt   = n Kt i - M0 sp(phi) - c phi - Mf(w) + Mstop(phi, w)
+ *   dphi/dt   = w
+ *   Mf(w)     = g(w) sgn(w) + Kv w
+ *   g(w)      = Mc + (Ms - Mc) exp(-|w|_e / ws),  |w|_e = sqrt(w^2 + e_w^2) - e_w
+ *   sp(phi)   = phi / sqrt(phi^2 + e_phi^2)        (limp-home preload sign, smoothed over e_phi)
+ *   Mstop     = torque of the hard stops on the plate, positive = opening (Kelvin-Voigt, no
+ *               adhesion):
+ *       p_lo = phi_closed - phi > 0:  Mstop = +max(0, k_stop p_lo - d_stop w)
+ *       p_hi = phi - phi_open   > 0:  Mstop = -max(0, k_stop p_hi + d_stop w)
+ *       otherwise 0.
+ *
+ * DISCRETE PREDICTION MAP x(k+1) = f(x(k), u(k)) over Ts, and why it is built this way.
+ *   The paper's forward Euler step is unstable at Ts = 1 ms (1 - R Ts / L = -1.15) and its
+ *   atan(1e3 x) sign is far too stiff for explicit stepping (MODEL.md errata 1-2). This map:
+ *   - splits Ts into N equal sub-steps h = Ts / N (N = params.substeps, 1..TVM_SUBSTEPS_MAX),
+ *     so the stiff hard-stop contact (sqrt(k_stop/J) = 2500 rad/s, h*2500 = 0.25 at N = 10)
+ *     and the fast mechanics are resolved;
+ *   - solves the armature equation exactly over each sub-step (zero-order hold of u and of the
+ *     back-EMF), which is stable for every h: the current never flips sign from numerics;
+ *   - treats Coulomb/Stribeck friction implicitly as a set-valued law: the friction impulse over
+ *     a sub-step can stop the plate but never reverse it, and a plate whose driving torque is
+ *     below stiction stays exactly at rest (no chatter, no creep). In closed form this is a
+ *     soft threshold; viscous friction is implicit too;
+ *   - integrates the angle with the new velocity (semi-implicit, symplectic Euler), which does
+ *     not pump energy into the spring/stop oscillators.
+ *   Each sub-step, with constants a = exp(-R h / L), b = (1 - a) / R, kappa = 1/(1 + h Kv / J):
+ *       i1   = a i + b (u - Ke n w)
+ *       T    = n Kt i1 - M0 sp(phi) - c phi + Mstop(phi, w)
+ *       z    = w + (h / J) T
+ *       D    = (h / J) g(w)
+ *       w1   = kappa * sgn(z) * max(|z| - D, 0)
+ *       phi1 = phi + h w1
+ *   The map is piecewise smooth: its derivative jumps only on the sets |z| = D (stick/slip
+ *   boundary), k_stop p + d_stop w = 0 and p = 0 (contact onset). Elsewhere, including w = 0,
+ *   phi = 0 and inside the stops, it is differentiable, and tvm_step() returns that derivative
+ *   exactly (chain rule through the N sub-steps: F = J_N ... J_1). While the plate sticks,
+ *   the velocity row of a sub-step Jacobian is zero: that is the true derivative of the map.
+ *
+ * Hard-stop angles, contact law, smoothing widths and N are not in the paper; their defaults
+ * are documented at tvm_params_default().
+ */
+#ifndef TV_MODEL_H
+#define TV_MODEL_H
+
+#include "tv_real.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Number of states (i, w, phi). */
+#define TVM_NX 3
+/** Upper bound on the number of internal sub-steps of the prediction map. */
+#define TVM_SUBSTEPS_MAX 50
+
+/** State indices. */
+enum { TVM_I = 0, TVM_W = 1, TVM_PHI = 2 };
+
+/** Physical parameters of the actuator and of the discrete map. All SI, plate side. */
+typedef struct {
+    /* paper Table 1 */
+    tv_real_t R_ohm;          /**< armature resistance [ohm], > 0 */
+    tv_real_t L_H;            /**< armature inductance [H], > 0 */
+    tv_real_t Ke_V_s_rad;     /**< back-EMF constant, motor side [V s/rad], >= 0 */
+    tv_real_t Kt_Nm_A;        /**< torque constant, motor side [N m/A], >= 0 */
+    tv_real_t J_kg_m2;        /**< inertia at the plate shaft [kg m^2], > 0 */
+    tv_real_t n_gear;         /**< gear ratio motor:plate [-], > 0 */
+    tv_real_t Mc_Nm;          /**< Coulomb friction torque [N m], >= 0 */
+    tv_real_t M0_Nm;          /**< spring preload torque at limp-home [N m], >= 0 */
+    tv_real_t c_Nm_rad;       /**< spring stiffness [N m/rad], >= 0 */
+    tv_real_t Kv_Nm_s_rad;    /**< viscous friction [N m s/rad], >= 0 */
+    tv_real_t Ms_Nm;          /**< stiction (breakaway) torque [N m], >= Mc_Nm */
+    tv_real_t ws_rad_s;       /**< Stribeck velocity [rad/s], > 0 */
+    /* not in the paper */
+    tv_real_t phi_closed_rad; /**< closed hard stop [rad], < 0 (below limp-home) */
+    tv_real_t phi_open_rad;   /**< open hard stop [rad], > 0 */
+    tv_real_t k_stop_Nm_rad;  /**< contact stiffness of both stops [N m/rad], >= 0 */
+    tv_real_t d_stop_Nm_s_rad;/**< contact damping of both stops [N m s/rad], >= 0 */
+    tv_real_t e_phi_rad;      /**< smoothing width of the preload sign at limp-home [rad], > 0 */
+    tv_real_t e_w_rad_s;      /**< smoothing width of |w| inside the Stribeck exponential [rad/s], > 0 */
+    tv_real_t Ts_s;           /**< sample period of the map [s], > 0 (1e-3 for 1 kHz) */
+    int substeps;             /**< internal sub-steps N per Ts, 1..TVM_SUBSTEPS_MAX */
+} tvm_params_t;
+
+/** The model with constants derived from the parameters; filled by tvm_init(), read-only after. */
+typedef struct {
+    tvm_params_t p;     /**< the parameters it was built from */
+    tv_real_t h_s;      /**< sub-step length Ts / N [s] */
+    tv_real_t a;        /**< exp(-R h / L): armature decay over a sub-step [-] */
+    tv_real_t b_A_V;    /**< (1 - a) / R: armature gain over a sub-step [A/V] */
+    tv_real_t h_J;      /**< h / J [s/(kg m^2)] */
+    tv_real_t kappa;    /**< 1 / (1 + h Kv / J): implicit viscous factor [-] */
+    tv_real_t nKt_Nm_A; /**< n Kt [N m/A] */
+    tv_real_t nKe_V_s;  /**< n Ke [V s/rad] */
+} tvm_t;
+
+/**
+ * Default parameters: the paper's Table 1, plus
+ *   phi_closed = -0.10 rad (-5.7 deg, OEM bodies close 5-7 deg below limp-home),
+ *   phi_open   = phi_closed + 84 deg = 1.3661 rad,
+ *   k_stop = 1e4 N m/rad (8 mrad penetration for a 20 rad/s impact), d_stop = 2.4 N m s/rad
+ *   (damping ratio 0.3 against J), e_phi = 1e-3 rad, e_w = 1e-3 rad/s, Ts = 1e-3 s, N = 10.
+ */
+void tvm_params_default(tvm_params_t *p);
+
+/**
+ * Validate parameters and derive the map's constants.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE if a parameter is NaN/Inf; TV_ERR_CONFIG if one
+ *         is outside the range documented at its field. On error *m is not written.
+ */
+int tvm_init(tvm_t *m, const tvm_params_t *p);
+
+/** g(w) = Mc + (Ms - Mc) exp(-|w|_e / ws): friction magnitude [N m] at velocity w [rad/s]. */
+tv_real_t tvm_friction_level(const tvm_t *m, tv_real_t w_rad_s);
+
+/** Hard-stop torque on the plate [N m], positive = opening, at angle phi [rad] and velocity w. */
+tv_real_t tvm_stop_torque(const tvm_t *m, tv_real_t phi_rad, tv_real_t w_rad_s);
+
+/**
+ * Continuous-time right-hand side dx/dt at x, u, with the friction sign smoothed as
+ * sgn(w) ~ w / sqrt(w^2 + e_w^2). For analysis and tests (the map above treats friction
+ * implicitly instead and does not call this).
+ */
+void tvm_deriv(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_t dxdt[TVM_NX]);
+
+/**
+ * One step of the discrete prediction map over Ts: x_next = f(x, u), and optionally its
+ * Jacobian F = df/dx at (x, u). x and x_next may alias. F may be NULL (prediction only).
+ * Inputs are assumed finite (the EKF validates them); cost is fixed: N sub-steps, no loops
+ * that depend on data.
+ */
+void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_t x_next[TVM_NX],
+              tv_real_t F[TVM_NX][TVM_NX]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* TV_MODEL_H */
