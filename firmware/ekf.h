@@ -131,6 +131,14 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg);
 int ekf_predict(ekf_t *ekf, tv_real_t u_V);
 
 /**
+ * The covariance half of a time update, for callers that evaluate the map themselves (and for
+ * benchmarks of the filter arithmetic alone): x = x_pred, P = F P F^T + Q, then the variance
+ * bounds. x_pred and F are read, not written.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NUMERIC (x_pred or the new P not finite/sane: nothing changed).
+ */
+int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX]);
+
+/**
  * Measurement update with the channels of the configured set-up.
  * @param out may be NULL; when given it is filled on success and zeroed on error.
  * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE (a used channel NaN/Inf); TV_ERR_RANGE (a used

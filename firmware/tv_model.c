@@ -27,7 +27,7 @@ void tvm_params_default(tvm_params_t *p)
     p->Ms_Nm = TV_R(0.3);
     p->ws_rad_s = TV_R(1.0);
     p->phi_closed_rad = TV_R(-0.10);
-    p->phi_open_rad = TV_R(1.3660603); /* -0.10 + 84 deg */
+    p->phi_open_rad = TV_R(1.3660766); /* -0.10 + 84 deg */
     p->k_stop_Nm_rad = TV_R(1.0e4);
     p->d_stop_Nm_s_rad = TV_R(2.4);
     p->e_phi_rad = TV_R(1.0e-3);

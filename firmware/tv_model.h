@@ -110,7 +110,7 @@ typedef struct {
 /**
  * Default parameters: the paper's Table 1, plus
  *   phi_closed = -0.10 rad (-5.7 deg, OEM bodies close 5-7 deg below limp-home),
- *   phi_open   = phi_closed + 84 deg = 1.3661 rad,
+ *   phi_open   = phi_closed + 84 deg = 1.3660766 rad,
  *   k_stop = 1e4 N m/rad (8 mrad penetration for a 20 rad/s impact), d_stop = 2.4 N m s/rad
  *   (damping ratio 0.3 against J), e_phi = 1e-3 rad, e_w = 1e-3 rad/s, Ts = 1e-3 s, N = 10.
  */

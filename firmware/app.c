@@ -1,0 +1,372 @@
+/**
+ * @file app.c
+ * @brief The 1 kHz application step (see app.h).
+ */
+#include "app.h"
+
+#include <stddef.h>
+#include <string.h>
+
+#include "tv_status.h"
+
+#define APP_PI TV_R(3.14159265358979)
+/** Largest gap predicted across, in periods; beyond it the estimate is not trusted. */
+#define APP_MAX_GAP_PERIODS 100u
+
+/* Index of each plausibility check's debounce counter. */
+enum { CHK_CURRENT = 0, CHK_TPS1, CHK_TPS2, CHK_DISAGREE, CHK_SUPPLY, CHK_N };
+
+static const uint32_t s_check_fault[CHK_N] = {APP_FAULT_CURRENT_RANGE, APP_FAULT_TPS1_RANGE, APP_FAULT_TPS2_RANGE,
+                                              APP_FAULT_TPS_DISAGREE, APP_FAULT_SUPPLY_RANGE};
+
+void app_calib_default(app_calib_t *c, const tvm_params_t *p)
+{
+    /* Front end of host_sim/plant.h: ADC 12 bit, Vref 3.3 V, LSB = Vref / 4096.
+     * current: V = 1.65 + 0.1 i -> counts = 4096/3.3 (1.65 + 0.1 i) = 2048 + 124.12 i
+     * tracks:  V = 0.66 * 5 (0.1 + 0.8 s), s = (phi - closed)/(open - closed)
+     *          -> counts1 = 4096 (0.1 + 0.8 s), counts2 = 4096 (0.9 - 0.8 s)
+     * supply:  V/6 -> counts = 4096/3.3 V / 6 */
+    const tv_real_t full = TV_R(4096.0);
+    const tv_real_t travel = p->phi_open_rad - p->phi_closed_rad;
+    const tv_real_t s0 = -p->phi_closed_rad / travel;
+    c->adc_max_counts = 4095u;
+    c->current_offset_counts = full * TV_R(1.65) / TV_R(3.3);
+    c->current_A_per_count = TV_R(3.3) / (full * TV_R(0.1));
+    c->tps1_counts_at_zero = full * (TV_R(0.1) + TV_R(0.8) * s0);
+    c->tps1_rad_per_count = travel / (full * TV_R(0.8));
+    c->tps2_counts_at_zero = full * (TV_R(0.9) - TV_R(0.8) * s0);
+    c->tps2_rad_per_count = -travel / (full * TV_R(0.8));
+    c->supply_V_per_count = TV_R(6.0) * TV_R(3.3) / full;
+}
+
+void app_config_default(app_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return;
+    }
+    memset(cfg, 0, sizeof *cfg);
+    tvm_params_default(&cfg->model);
+    ekf_config_default(&cfg->ekf, EKF_SETUP_CURRENT_ANGLE);
+    app_calib_default(&cfg->calib, &cfg->model);
+    /* Tracks span 0.1..0.9 of full scale over the travel; a stop penetration of a few mrad
+     * stays far inside 2..98 %. Outside it the track is open or shorted. */
+    cfg->limits.current_min_counts = 20u;
+    cfg->limits.current_max_counts = 4075u;
+    cfg->limits.tps_min_counts = 82u;
+    cfg->limits.tps_max_counts = 4013u;
+    cfg->limits.tps_disagree_max_rad = TV_R(0.035); /* 2 deg */
+    cfg->limits.supply_min_V = TV_R(8.0);
+    cfg->limits.supply_max_V = TV_R(18.0);
+    cfg->limits.debounce_trip = 5u;
+    cfg->control.mode = APP_MODE_SINE;
+    cfg->control.amplitude_V = TV_R(12.0);
+    cfg->control.freq_Hz = TV_R(5.0);
+    cfg->control.chirp_f1_Hz = TV_R(20.0);
+    cfg->control.chirp_period_s = TV_R(2.0);
+    cfg->control.target_rad = TV_R(0.3);
+    cfg->control.target_margin_rad = TV_R(0.05);
+    cfg->control.kp_V_rad = TV_R(60.0);
+    cfg->control.ki_V_rad_s = TV_R(300.0);
+    cfg->control.kd_V_s_rad = TV_R(1.2);
+    cfg->control.i_limit_V = TV_R(4.0);
+    cfg->control.duty_limit = TV_R(0.95);
+}
+
+static int finite_all(const tv_real_t *v, size_t n)
+{
+    size_t k;
+    for (k = 0; k < n; ++k) {
+        if (!TV_IS_FINITE(v[k])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static int check_control(const app_control_t *c)
+{
+    const tv_real_t v[] = {c->amplitude_V, c->freq_Hz,    c->chirp_f1_Hz, c->chirp_period_s, c->target_rad,
+                           c->target_margin_rad, c->kp_V_rad, c->ki_V_rad_s, c->kd_V_s_rad, c->i_limit_V,
+                           c->duty_limit};
+    if (!finite_all(v, sizeof v / sizeof v[0])) {
+        return TV_ERR_NONFINITE;
+    }
+    if ((unsigned)c->mode > (unsigned)APP_MODE_POSITION || c->amplitude_V < TV_R(0.0) ||
+        c->freq_Hz < TV_R(0.0) || c->chirp_f1_Hz < TV_R(0.0) || !(c->chirp_period_s > TV_R(0.0)) ||
+        c->target_margin_rad < TV_R(0.0) || c->kp_V_rad < TV_R(0.0) || c->ki_V_rad_s < TV_R(0.0) ||
+        c->kd_V_s_rad < TV_R(0.0) || c->i_limit_V < TV_R(0.0) || !(c->duty_limit > TV_R(0.0)) ||
+        c->duty_limit > TV_R(1.0)) {
+        return TV_ERR_CONFIG;
+    }
+    return TV_OK;
+}
+
+int app_init(app_t *app, const app_config_t *cfg)
+{
+    ekf_t ekf;
+    int rc;
+    if (app == NULL || cfg == NULL) {
+        return TV_ERR_NULL;
+    }
+    {
+        const app_calib_t *c = &cfg->calib;
+        const tv_real_t v[] = {c->current_offset_counts, c->current_A_per_count, c->tps1_counts_at_zero,
+                               c->tps1_rad_per_count,    c->tps2_counts_at_zero, c->tps2_rad_per_count,
+                               c->supply_V_per_count,    cfg->limits.tps_disagree_max_rad,
+                               cfg->limits.supply_min_V, cfg->limits.supply_max_V};
+        if (!finite_all(v, sizeof v / sizeof v[0])) {
+            return TV_ERR_NONFINITE;
+        }
+        if (c->adc_max_counts == 0u || c->current_A_per_count == TV_R(0.0) || !(c->tps1_rad_per_count > TV_R(0.0)) ||
+            !(c->tps2_rad_per_count < TV_R(0.0)) || !(c->supply_V_per_count > TV_R(0.0)) ||
+            cfg->limits.current_min_counts >= cfg->limits.current_max_counts ||
+            cfg->limits.tps_min_counts >= cfg->limits.tps_max_counts ||
+            cfg->limits.current_max_counts > c->adc_max_counts || cfg->limits.tps_max_counts > c->adc_max_counts ||
+            !(cfg->limits.tps_disagree_max_rad > TV_R(0.0)) ||
+            !(cfg->limits.supply_max_V > cfg->limits.supply_min_V) || cfg->limits.supply_min_V <= TV_R(0.0) ||
+            cfg->limits.debounce_trip == 0u) {
+            return TV_ERR_CONFIG;
+        }
+    }
+    rc = check_control(&cfg->control);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    rc = ekf_init(&ekf, &cfg->model, &cfg->ekf);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    memset(app, 0, sizeof *app);
+    app->cfg = *cfg;
+    app->ekf = ekf;
+    return TV_OK;
+}
+
+void app_clear_faults(app_t *app)
+{
+    if (app == NULL) {
+        return;
+    }
+    app->faults = 0u;
+    memset(app->debounce, 0, sizeof app->debounce);
+    app->ekf_fail_run = 0u;
+}
+
+int app_set_control(app_t *app, const app_control_t *ctl)
+{
+    int rc;
+    if (app == NULL || ctl == NULL) {
+        return TV_ERR_NULL;
+    }
+    rc = check_control(ctl);
+    if (rc == TV_OK) {
+        app->cfg.control = *ctl;
+        app->integ_V = TV_R(0.0);
+    }
+    return rc;
+}
+
+/* Debounce one check: consecutive failures trip (and latch) its fault. */
+static void debounce(app_t *app, int chk, int failed)
+{
+    if (failed) {
+        if (app->debounce[chk] < 0xFFFFu) {
+            ++app->debounce[chk];
+        }
+        if (app->debounce[chk] >= app->cfg.limits.debounce_trip) {
+            app->faults |= s_check_fault[chk];
+        }
+    } else {
+        app->debounce[chk] = 0u;
+    }
+}
+
+static tv_real_t clamp(tv_real_t v, tv_real_t lo, tv_real_t hi) { return v < lo ? lo : (v > hi ? hi : v); }
+
+/* sin() of the scalar type. */
+static tv_real_t app_sin(tv_real_t a)
+{
+#if TV_REAL_IS_DOUBLE
+    return sin(a);
+#else
+    return sinf(a);
+#endif
+}
+
+/* Voltage command of the active mode at time t [s] since start. */
+static tv_real_t control_law(app_t *app, tv_real_t t_s)
+{
+    const app_control_t *c = &app->cfg.control;
+    const tvm_params_t *p = &app->cfg.model;
+    switch (c->mode) {
+    case APP_MODE_SINE:
+        return c->amplitude_V * app_sin(TV_R(2.0) * APP_PI * c->freq_Hz * t_s);
+    case APP_MODE_STEPS: {
+        /* phase in [0, 1): first half +A, second half -A */
+        const tv_real_t cycles = c->freq_Hz * t_s;
+        const tv_real_t phase = cycles - (tv_real_t)(long)cycles;
+        return phase < TV_R(0.5) ? c->amplitude_V : -c->amplitude_V;
+    }
+    case APP_MODE_CHIRP: {
+        /* linear sweep f0 -> f1 over chirp_period, restarting: phase = 2 pi (f0 tau + (f1-f0) tau^2 / 2T) */
+        const tv_real_t T = c->chirp_period_s;
+        const tv_real_t n = (tv_real_t)(long)(t_s / T);
+        const tv_real_t tau = t_s - n * T;
+        const tv_real_t ph = TV_R(2.0) * APP_PI * (c->freq_Hz * tau + (c->chirp_f1_Hz - c->freq_Hz) * tau * tau / (TV_R(2.0) * T));
+        return c->amplitude_V * app_sin(ph);
+    }
+    case APP_MODE_POSITION: {
+        /* PID on the estimated angle with model feed-forward of the springs and of Coulomb
+         * friction; the derivative acts on the estimated velocity (no derivative kick). */
+        const tv_real_t lo = p->phi_closed_rad + c->target_margin_rad;
+        const tv_real_t hi = p->phi_open_rad - c->target_margin_rad;
+        const tv_real_t target = clamp(c->target_rad, lo, hi);
+        const tv_real_t phi = app->ekf.x[TVM_PHI];
+        const tv_real_t w = app->ekf.x[TVM_W];
+        const tv_real_t e = target - phi;
+        const tv_real_t e_phi = p->e_phi_rad;
+        const tv_real_t sp = target / TV_SQRT(target * target + e_phi * e_phi);
+        const tv_real_t nkt = p->n_gear * p->Kt_Nm_A;
+        tv_real_t torque_ff = p->M0_Nm * sp + p->c_Nm_rad * target;
+        tv_real_t u;
+        if (e > TV_R(0.002)) {
+            torque_ff += p->Mc_Nm;
+        } else if (e < TV_R(-0.002)) {
+            torque_ff -= p->Mc_Nm;
+        }
+        app->integ_V = clamp(app->integ_V + c->ki_V_rad_s * e * p->Ts_s, -c->i_limit_V, c->i_limit_V);
+        u = p->R_ohm * torque_ff / nkt + p->n_gear * p->Ke_V_s_rad * w + c->kp_V_rad * e + app->integ_V -
+            c->kd_V_s_rad * w;
+        return u;
+    }
+    case APP_MODE_OFF:
+    default:
+        return TV_R(0.0);
+    }
+}
+
+void app_step(app_t *app, const app_input_t *in, app_output_t *out)
+{
+    const app_calib_t *cal;
+    const app_limits_t *lim;
+    uint32_t periods = 1u;
+    int sample_ok;
+    tv_real_t phi1;
+    tv_real_t phi2;
+    tv_real_t angle;
+    tv_real_t current;
+    ekf_meas_t meas;
+    uint32_t k;
+    if (app == NULL || in == NULL || out == NULL) {
+        return;
+    }
+    memset(out, 0, sizeof *out);
+    cal = &app->cfg.calib;
+    lim = &app->cfg.limits;
+
+    /* Timing: the number of periods since the last sample; gaps are predicted across. */
+    if (!app->started) {
+        app->started = 1u;
+        app->t0_us = in->t_us;
+    } else if (in->t_us <= app->last_t_us) {
+        app->faults |= APP_FAULT_TIMING;
+        periods = 0u;
+    } else {
+        const uint64_t dt = in->t_us - app->last_t_us;
+        const uint64_t n = (dt + APP_PERIOD_US / 2u) / APP_PERIOD_US;
+        if (n == 0u || n > APP_MAX_GAP_PERIODS) {
+            app->faults |= APP_FAULT_TIMING;
+            periods = n == 0u ? 0u : APP_MAX_GAP_PERIODS;
+        } else {
+            periods = (uint32_t)n;
+        }
+        out->missing_samples = periods > 0u ? periods - 1u : 0u;
+    }
+    if (periods > 0u || !app->started) {
+        app->last_t_us = in->t_us;
+    }
+
+    /* Counts to units. */
+    current = ((tv_real_t)in->adc[0] - cal->current_offset_counts) * cal->current_A_per_count;
+    phi1 = ((tv_real_t)in->adc[1] - cal->tps1_counts_at_zero) * cal->tps1_rad_per_count;
+    phi2 = ((tv_real_t)in->adc[2] - cal->tps2_counts_at_zero) * cal->tps2_rad_per_count;
+    angle = (phi1 + phi2) * TV_R(0.5);
+    out->supply_V = (tv_real_t)in->adc[3] * cal->supply_V_per_count;
+
+    /* Plausibility, debounced. A sample failing any check is not used for correction. */
+    {
+        const int f_cur = in->adc[0] < lim->current_min_counts || in->adc[0] > lim->current_max_counts;
+        const int f_t1 = in->adc[1] < lim->tps_min_counts || in->adc[1] > lim->tps_max_counts;
+        const int f_t2 = in->adc[2] < lim->tps_min_counts || in->adc[2] > lim->tps_max_counts;
+        const int f_dis = TV_FABS(phi1 - phi2) > lim->tps_disagree_max_rad;
+        const int f_sup = out->supply_V < lim->supply_min_V || out->supply_V > lim->supply_max_V;
+        debounce(app, CHK_CURRENT, f_cur);
+        debounce(app, CHK_TPS1, f_t1);
+        debounce(app, CHK_TPS2, f_t2);
+        debounce(app, CHK_DISAGREE, f_dis);
+        debounce(app, CHK_SUPPLY, f_sup);
+        sample_ok = !(f_cur || f_t1 || f_t2 || f_dis || f_sup);
+    }
+    if (in->driver_fault) {
+        app->faults |= APP_FAULT_DRIVER;
+    }
+
+    /* Estimator: predict across every elapsed period with the voltage that was applied, then
+     * correct with this sample if it is plausible. */
+    meas.z[EKF_CH_CURRENT] = current;
+    meas.z[EKF_CH_ANGLE] = angle;
+    meas.z[EKF_CH_VELOCITY] =
+        app->n_steps > 0u && periods > 0u
+            ? (angle - app->last_angle_rad) / ((tv_real_t)periods * app->cfg.model.Ts_s)
+            : TV_R(0.0);
+    out->ekf_status = TV_OK;
+    for (k = 0u; k < periods; ++k) {
+        const int rc = ekf_predict(&app->ekf, app->u_applied_V);
+        if (rc != TV_OK) {
+            out->ekf_status = rc;
+            break;
+        }
+    }
+    if (out->ekf_status == TV_OK && sample_ok && periods > 0u) {
+        out->ekf_status = ekf_correct(&app->ekf, &meas, &out->innov);
+    }
+    if (out->ekf_status != TV_OK) {
+        if (app->ekf_fail_run < 0xFFFFu) {
+            ++app->ekf_fail_run;
+        }
+        if (app->ekf_fail_run >= lim->debounce_trip) {
+            app->faults |= APP_FAULT_ESTIMATOR;
+        }
+    } else {
+        app->ekf_fail_run = 0u;
+    }
+    if (sample_ok) {
+        app->last_angle_rad = angle;
+    }
+
+    /* Control and output. Any latched fault: safe state. */
+    {
+        const tv_real_t t_s = (tv_real_t)(in->t_us - app->t0_us) * TV_R(1e-6);
+        tv_real_t duty = TV_R(0.0);
+        uint8_t enable = 0u;
+        if (app->faults == 0u && app->cfg.control.mode != APP_MODE_OFF && out->supply_V > TV_R(0.0)) {
+            const tv_real_t dl = app->cfg.control.duty_limit;
+            out->u_cmd_V = control_law(app, t_s);
+            duty = clamp(out->u_cmd_V / out->supply_V, -dl, dl);
+            enable = 1u;
+        } else {
+            app->integ_V = TV_R(0.0);
+        }
+        out->duty = (float)duty;
+        out->bridge_enable = enable;
+        /* What the model will see over the next period: the bridge voltage (an open bridge is
+         * approximated by 0 V; the real winding then decays through the diodes). */
+        app->u_applied_V = enable ? duty * out->supply_V : TV_R(0.0);
+    }
+
+    memcpy(out->z, meas.z, sizeof out->z);
+    memcpy(out->x, app->ekf.x, sizeof out->x);
+    ekf_sigma(&app->ekf, out->sigma);
+    out->faults = app->faults;
+    ++app->n_steps;
+}

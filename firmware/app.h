@@ -1,0 +1,162 @@
+/**
+ * @file app.h
+ * @brief The 1 kHz application step, the same on every platform:
+ *        raw ADC counts -> physical units (calibration) -> plausibility checks -> EKF ->
+ *        control (open-loop excitation or closed-loop position) -> PWM duty and bridge enable.
+ *
+ * app_step() is pure (inputs in, outputs out, state in the caller-owned app_t); app_tick() in
+ * app_tick.c wraps it with the HAL for the platforms. Nothing here touches hardware.
+ *
+ * Safe state: when a plausibility check fails for more than its debounce count, or the driver
+ * reports a fault, the output goes to PWM 0 with the bridge disabled (the springs return the
+ * plate to limp-home) and a fault flag latches until app_clear_faults().
+ */
+#ifndef APP_H
+#define APP_H
+
+#include <stdint.h>
+
+#include "ekf.h"
+#include "tv_model.h"
+#include "tv_real.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Application period [us]. */
+#define APP_PERIOD_US 1000u
+
+/** Operating modes. */
+typedef enum {
+    APP_MODE_OFF = 0,         /**< PWM 0, bridge disabled; estimator runs */
+    APP_MODE_SINE = 1,        /**< open loop: u = amplitude sin(2 pi f t) (the paper's experiment) */
+    APP_MODE_STEPS = 2,       /**< open loop: square wave of +-amplitude at frequency f */
+    APP_MODE_CHIRP = 3,       /**< open loop: sine sweeping f0 -> f1 over chirp_period */
+    APP_MODE_POSITION = 4     /**< closed loop on the estimated angle */
+} app_mode_t;
+
+/** Fault flags (bit mask, latched). */
+enum {
+    APP_FAULT_CURRENT_RANGE = 1u << 0,  /**< current ADC outside its plausible counts */
+    APP_FAULT_TPS1_RANGE = 1u << 1,     /**< track 1 outside its plausible counts (open/short) */
+    APP_FAULT_TPS2_RANGE = 1u << 2,     /**< track 2 outside its plausible counts */
+    APP_FAULT_TPS_DISAGREE = 1u << 3,   /**< the two tracks disagree by more than the limit */
+    APP_FAULT_SUPPLY_RANGE = 1u << 4,   /**< supply voltage outside its window */
+    APP_FAULT_DRIVER = 1u << 5,         /**< H-bridge driver fault input active */
+    APP_FAULT_ESTIMATOR = 1u << 6,      /**< the EKF rejected its inputs repeatedly */
+    APP_FAULT_TIMING = 1u << 7          /**< samples missing / time going backwards */
+};
+
+/** Count-to-unit calibration of the ECU's analogue front end. */
+typedef struct {
+    uint16_t adc_max_counts;       /**< full scale, 4095 for 12 bits */
+    tv_real_t current_offset_counts; /**< counts at 0 A */
+    tv_real_t current_A_per_count; /**< [A/count] */
+    tv_real_t tps1_counts_at_zero; /**< track 1 counts at phi = 0 (limp-home) */
+    tv_real_t tps1_rad_per_count;  /**< [rad/count], > 0 */
+    tv_real_t tps2_counts_at_zero; /**< track 2 counts at phi = 0 */
+    tv_real_t tps2_rad_per_count;  /**< [rad/count], < 0 (falling track) */
+    tv_real_t supply_V_per_count;  /**< [V/count] */
+} app_calib_t;
+
+/** Plausibility limits and debounce. */
+typedef struct {
+    uint16_t current_min_counts, current_max_counts; /**< plausible current counts */
+    uint16_t tps_min_counts, tps_max_counts;         /**< plausible counts of both tracks */
+    tv_real_t tps_disagree_max_rad;                  /**< |phi1 - phi2| above this fails */
+    tv_real_t supply_min_V, supply_max_V;            /**< supply window [V] */
+    uint16_t debounce_trip;  /**< consecutive failing samples that trip a fault (>= 1) */
+} app_limits_t;
+
+/** Open-loop excitation and closed-loop control parameters. */
+typedef struct {
+    app_mode_t mode;
+    tv_real_t amplitude_V;     /**< excitation amplitude [V] (sine, steps, chirp) */
+    tv_real_t freq_Hz;         /**< sine / step frequency, chirp start [Hz] */
+    tv_real_t chirp_f1_Hz;     /**< chirp end frequency [Hz] */
+    tv_real_t chirp_period_s;  /**< chirp sweep duration, then it restarts [s] */
+    tv_real_t target_rad;      /**< closed-loop target angle [rad] */
+    tv_real_t target_margin_rad; /**< targets are kept this far inside the hard stops [rad] */
+    tv_real_t kp_V_rad, ki_V_rad_s, kd_V_s_rad; /**< PID gains on angle error [V/rad, V/(rad s), V s/rad] */
+    tv_real_t i_limit_V;       /**< anti-windup clamp of the integral term [V] */
+    tv_real_t duty_limit;      /**< |duty| <= this, in (0, 1] */
+} app_control_t;
+
+/** Everything app_init() needs. */
+typedef struct {
+    tvm_params_t model;   /**< estimator model parameters */
+    ekf_config_t ekf;     /**< estimator configuration (set-up, Q, R, ...) */
+    app_calib_t calib;
+    app_limits_t limits;
+    app_control_t control;
+} app_config_t;
+
+/** Inputs of one step. */
+typedef struct {
+    uint16_t adc[4];       /**< raw counts: current, tps1, tps2, supply (hal.h order) */
+    uint64_t t_us;         /**< sample time [us] */
+    uint8_t driver_fault;  /**< H-bridge driver fault input */
+} app_input_t;
+
+/** Outputs of one step, with everything worth logging. */
+typedef struct {
+    float duty;            /**< PWM duty to apply, [-1, 1] */
+    uint8_t bridge_enable; /**< 1: bridge enabled */
+    tv_real_t u_cmd_V;     /**< voltage the controller asked for [V] */
+    tv_real_t z[EKF_NCH];  /**< measurements in units: current [A], velocity [rad/s] (differentiated angle), angle [rad] */
+    tv_real_t supply_V;    /**< measured supply [V] */
+    tv_real_t x[TVM_NX];   /**< estimate after correction (A, rad/s, rad) */
+    tv_real_t sigma[TVM_NX]; /**< its standard deviations */
+    ekf_innov_t innov;     /**< innovations, their variances, NIS */
+    int ekf_status;        /**< status of this step's correction (0 ok) */
+    uint32_t faults;       /**< latched APP_FAULT_* mask */
+    uint32_t missing_samples; /**< samples missing before this one (predicted across) */
+} app_output_t;
+
+/** Application state. Allocate statically; initialise with app_init(). */
+typedef struct {
+    app_config_t cfg;
+    ekf_t ekf;
+    uint64_t t0_us, last_t_us;
+    uint32_t n_steps;
+    uint8_t started;
+    uint32_t faults;
+    uint16_t debounce[8];     /**< per check, consecutive failures */
+    uint16_t ekf_fail_run;    /**< consecutive EKF rejections */
+    tv_real_t u_applied_V;    /**< voltage applied over the last period (input of the next predict) */
+    tv_real_t last_angle_rad; /**< previous angle measurement (for differentiated velocity) */
+    tv_real_t integ_V;        /**< PID integral state [V] */
+} app_t;
+
+/**
+ * Calibration matching the host_sim plant's default front end (documented in host_sim/plant.h):
+ * 12-bit ADC, 3.3 V reference, current sense 1.65 V + 0.1 V/A, tracks 0.1..0.9 x 5 V over the
+ * stop-to-stop travel through a 0.66 divider, supply through 1/6.
+ */
+void app_calib_default(app_calib_t *c, const tvm_params_t *p);
+
+/** Default limits, control (the paper's 12 V / 5 Hz sine), model and EKF configuration. */
+void app_config_default(app_config_t *cfg);
+
+/** Validate and initialise. @return TV_OK, TV_ERR_NULL, TV_ERR_NONFINITE, TV_ERR_CONFIG. */
+int app_init(app_t *app, const app_config_t *cfg);
+
+/**
+ * One 1 ms step. Never fails: bad inputs become faults and the safe state, and are reported in
+ * *out. A gap in t_us (missing samples) is predicted across, up to 100 periods; a larger gap or
+ * time going backwards sets APP_FAULT_TIMING.
+ */
+void app_step(app_t *app, const app_input_t *in, app_output_t *out);
+
+/** Clear latched faults (e.g. on a CAN command); the debounce counters restart. */
+void app_clear_faults(app_t *app);
+
+/** Change mode and control parameters at run time; validated like app_init(). */
+int app_set_control(app_t *app, const app_control_t *ctl);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* APP_H */

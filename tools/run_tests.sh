@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# The whole test suite, from a fresh clone on Debian 12 (the README's test command; .ci/run
+# calls exactly this). Steps, each must pass:
+#   1. install the Debian packages (tools/setup.sh)
+#   2. host build with ASan + UBSan, every ctest test (the soak runs 10^5 steps here)
+#   3. host release build, every ctest test again (10^7-step soak) + the benchmarks, which
+#      print numbers and never fail on them
+#   4. Cortex-M4F cross build of the float estimator and its size report
+#   5. cppcheck and clang-tidy on the firmware, HAL and host simulation sources
+set -euo pipefail
+cd "$(dirname "$0")/.."
+jobs=$(nproc 2>/dev/null || echo 2)
+
+step() { printf '\n==== %s ====\n' "$*"; }
+
+step "1/5 set-up"
+tools/setup.sh
+
+step "2/5 host debug build, ASan + UBSan"
+cmake --preset host-debug >/dev/null
+cmake --build build/host-debug -j"$jobs"
+ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+  ctest --test-dir build/host-debug -j"$jobs" --output-on-failure -LE bench
+
+step "3/5 host release build: tests, soak, benchmarks"
+cmake --preset host-release >/dev/null
+cmake --build build/host-release -j"$jobs"
+ctest --test-dir build/host-release -j"$jobs" --output-on-failure -LE bench
+bench_log=build/host-release/bench.log
+ctest --test-dir build/host-release -V -L bench >"$bench_log" 2>&1 || { cat "$bench_log"; exit 1; }
+sed -n 's/^[0-9]*: //p' "$bench_log" | grep -v '^Test command' || true
+tail -3 "$bench_log"
+
+step "4/5 Cortex-M4F cross build"
+cmake --preset m4f >/dev/null
+cmake --build build/m4f -j"$jobs"
+cmake --build build/m4f --target estimator_size | grep -v '^\[' || true
+
+step "5/5 static analysis"
+mapfile -t srcs < <(git ls-files 'firmware/*.c' 'hal/*.c' 'host_sim/*.c' 2>/dev/null || true)
+if ((${#srcs[@]} == 0)); then mapfile -t srcs < <(ls firmware/*.c hal/*.c host_sim/*.c 2>/dev/null); fi
+cppcheck --std=c99 --enable=warning,style,performance,portability --error-exitcode=1 --inline-suppr \
+  --quiet -Ifirmware -Ihal -Ihost_sim "${srcs[@]}"
+clang-tidy --quiet "${srcs[@]}" -- -std=c99 -Ifirmware -Ihal -Ihost_sim 2>&1 | grep -v 'warnings generated' || true
+clang-tidy --quiet "${srcs[@]}" -- -std=c99 -Ifirmware -Ihal -Ihost_sim >/dev/null 2>&1
+echo "cppcheck and clang-tidy: clean (${#srcs[@]} files)"
+
+printf '\nall test steps passed\n'

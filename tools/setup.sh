@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Install the Debian 12 packages this project needs (idempotent: installs only what is missing).
+# Why each one is here: see README.md, "Dependencies".
+set -euo pipefail
+
+PKGS=(
+  cmake make gcc g++                     # host build
+  libeigen3-dev                          # C++ reference EKF with AutoDiff Jacobians (tests only)
+  python3-numpy python3-matplotlib       # tools/: plots and log conversion
+  valgrind                               # callgrind instruction counts (benchmarks)
+  gcc-arm-none-eabi libnewlib-arm-none-eabi  # Cortex-M4F cross build
+  clang libclang-rt-14-dev               # libFuzzer targets, sanitizer runtime
+  cppcheck clang-tidy                    # static analysis in the test command
+)
+
+missing=()
+for p in "${PKGS[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  echo "setup: installing ${missing[*]}" >&2
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+  echo "setup: all ${#PKGS[@]} packages present" >&2
+fi
