@@ -166,6 +166,38 @@ int app_set_control(app_t *app, const app_control_t *ctl)
     return rc;
 }
 
+int app_set_target(app_t *app, tv_real_t target_rad)
+{
+    if (app == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!TV_IS_FINITE(target_rad)) {
+        return TV_ERR_NONFINITE;
+    }
+    app->cfg.control.target_rad = target_rad;
+    return TV_OK;
+}
+
+/*
+ * Voltage the model sees while the bridge is disabled. The real winding is open: the current
+ * decays through the body diodes in well under a period and then stays 0 whatever the plate
+ * does. The model has no open-circuit state; with u = n Ke w (the back-EMF) its armature
+ * equation becomes L di/dt = -R i, so the predicted current decays to 0 and stays there while
+ * the plate moves, instead of the short-circuit braking current that u = 0 would predict.
+ */
+static tv_real_t open_bridge_voltage(const app_t *app)
+{
+    return app->cfg.model.n_gear * app->cfg.model.Ke_V_s_rad * app->ekf.x[TVM_W];
+}
+
+void app_outputs_forced_off(app_t *app)
+{
+    if (app != NULL) {
+        app->u_applied_V = open_bridge_voltage(app);
+        app->integ_V = TV_R(0.0);
+    }
+}
+
 /* Debounce one check: consecutive failures trip (and latch) its fault. */
 static void debounce(app_t *app, int chk, int failed)
 {
@@ -315,10 +347,12 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
      * correct with this sample if it is plausible. */
     meas.z[EKF_CH_CURRENT] = current;
     meas.z[EKF_CH_ANGLE] = angle;
-    meas.z[EKF_CH_VELOCITY] =
-        app->n_steps > 0u && periods > 0u
-            ? (angle - app->last_angle_rad) / ((tv_real_t)periods * app->cfg.model.Ts_s)
-            : TV_R(0.0);
+    /* Differentiated velocity (the paper's third measurement): against the last plausible
+     * angle and its own time, so a rejected or missing sample does not distort it. */
+    meas.z[EKF_CH_VELOCITY] = TV_R(0.0);
+    if (app->have_last_angle && in->t_us > app->last_angle_t_us) {
+        meas.z[EKF_CH_VELOCITY] = (angle - app->last_angle_rad) / ((tv_real_t)(in->t_us - app->last_angle_t_us) * TV_R(1e-6));
+    }
     out->ekf_status = TV_OK;
     for (k = 0u; k < periods; ++k) {
         const int rc = ekf_predict(&app->ekf, app->u_applied_V);
@@ -340,8 +374,10 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     } else {
         app->ekf_fail_run = 0u;
     }
-    if (sample_ok) {
+    if (sample_ok && periods > 0u) {
         app->last_angle_rad = angle;
+        app->last_angle_t_us = in->t_us;
+        app->have_last_angle = 1u;
     }
 
     /* Control and output. Any latched fault: safe state. */
@@ -359,9 +395,8 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         }
         out->duty = (float)duty;
         out->bridge_enable = enable;
-        /* What the model will see over the next period: the bridge voltage (an open bridge is
-         * approximated by 0 V; the real winding then decays through the diodes). */
-        app->u_applied_V = enable ? duty * out->supply_V : TV_R(0.0);
+        /* What the model will see over the next period. */
+        app->u_applied_V = enable ? duty * out->supply_V : open_bridge_voltage(app);
     }
 
     memcpy(out->z, meas.z, sizeof out->z);

@@ -125,7 +125,9 @@ typedef struct {
     uint16_t debounce[8];     /**< per check, consecutive failures */
     uint16_t ekf_fail_run;    /**< consecutive EKF rejections */
     tv_real_t u_applied_V;    /**< voltage applied over the last period (input of the next predict) */
-    tv_real_t last_angle_rad; /**< previous angle measurement (for differentiated velocity) */
+    tv_real_t last_angle_rad; /**< last plausible angle measurement (for differentiated velocity) */
+    uint64_t last_angle_t_us; /**< its sample time [us] */
+    uint8_t have_last_angle;  /**< 1 once a plausible angle was seen */
     tv_real_t integ_V;        /**< PID integral state [V] */
 } app_t;
 
@@ -152,8 +154,24 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out);
 /** Clear latched faults (e.g. on a CAN command); the debounce counters restart. */
 void app_clear_faults(app_t *app);
 
-/** Change mode and control parameters at run time; validated like app_init(). */
+/**
+ * Change mode and control parameters at run time; validated like app_init(). Resets the PID
+ * integrator (a new mode or new gains start clean); use app_set_target() to move the target.
+ */
 int app_set_control(app_t *app, const app_control_t *ctl);
+
+/**
+ * Move the closed-loop target angle [rad] without resetting the integrator (ramps, step
+ * sequences, CAN commands). It is clamped into the stops' margin when used.
+ * @return TV_OK, TV_ERR_NULL, TV_ERR_NONFINITE.
+ */
+int app_set_target(app_t *app, tv_real_t target_rad);
+
+/**
+ * Tell the application that the platform forced its outputs off this period (a failed ADC
+ * read or PWM write): the estimator then predicts the next period with the bridge open.
+ */
+void app_outputs_forced_off(app_t *app);
 
 #ifdef __cplusplus
 }

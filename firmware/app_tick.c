@@ -25,6 +25,7 @@ int app_tick(app_t *app, app_output_t *out)
         /* No sample: outputs to the safe state; the application sees nothing this period. */
         (void)hal_pwm_set_duty(0.0f);
         (void)hal_bridge_enable(0);
+        app_outputs_forced_off(app);
         return rc;
     }
     for (k = 0; k < 4; ++k) {
@@ -44,6 +45,12 @@ int app_tick(app_t *app, app_output_t *out)
     } else {
         (void)hal_pwm_set_duty(0.0f);
         rc = hal_bridge_enable(0);
+    }
+    if (rc != TV_OK) {
+        /* A failed write: force the outputs off and tell the estimator. */
+        (void)hal_pwm_set_duty(0.0f);
+        (void)hal_bridge_enable(0);
+        app_outputs_forced_off(app);
     }
     return rc;
 }

@@ -127,9 +127,9 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->P0[2][2] = TV_R(0.01);
     tvm_params_default(&p);
     (void)ekf_q_from_spectral(&p, EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S, cfg->Q);
-    cfg->r[EKF_CH_CURRENT] = TV_R(1e-4);
+    cfg->r[EKF_CH_CURRENT] = TV_R(1.054e-4);
     cfg->r[EKF_CH_VELOCITY] = TV_R(1.0);
-    cfg->r[EKF_CH_ANGLE] = TV_R(2e-8);
+    cfg->r[EKF_CH_ANGLE] = TV_R(2.668e-8);
     for (a = 0; a < TVM_NX; ++a) {
         cfg->var_floor[a] = TV_R(1e-12);
     }

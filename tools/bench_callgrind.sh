@@ -27,6 +27,6 @@ for v in f32 f64; do
   count "C $v filter + model, current+velocity+angle" bench_run "$build/tests/bench_ekf_$v" full "$steps" 3
 done
 if [ -x "$build/tests/bench_ref" ]; then
-  count "Eigen reference filter arithmetic only" bench_run "$build/tests/bench_ref" filter "$steps"
-  count "Eigen reference filter + model (AutoDiff Jacobian)" bench_run "$build/tests/bench_ref" full "$steps"
+  count "Eigen reference filter arithmetic only" bench_loop_filter "$build/tests/bench_ref" filter "$steps"
+  count "Eigen reference filter + model (AutoDiff Jacobian)" bench_loop_full "$build/tests/bench_ref" full "$steps"
 fi

@@ -1,0 +1,360 @@
+/**
+ * @file main.c
+ * @brief host_sim: run a scenario of the firmware application against the plant, write the
+ *        CSV log and the metrics (see usage()).
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <unistd.h>
+
+#include "sim.h"
+#include "tv_status.h"
+
+/** Exit code for a usage error. */
+#define MAIN_EXIT_USAGE 2
+/** Exit code for a run or I/O failure. */
+#define MAIN_EXIT_FAIL 1
+/** Longest output path built [chars]. */
+#define MAIN_PATH_MAX 4096
+
+static const char *s_prog = "host_sim";
+
+static void usage(FILE *f)
+{
+    int k;
+    fprintf(f,
+            "usage: %s [--scenario NAME] [--duration S] [--seed N] [--mc N] [--setup 2|3]\n"
+            "          [--qu X] [--qT X] [--r-current X] [--r-angle X] [--r-velocity X]\n"
+            "          [--pwm-ripple] [--drop-every N] [--out DIR] [--help]\n"
+            "\n"
+            "Runs the firmware's 1 kHz application (double build) against the high-fidelity plant.\n"
+            "With no arguments: the paper's experiment (paper_sine, 2 s, seed 1) into out/.\n"
+            "\n"
+            "  --scenario NAME   one of:",
+            s_prog);
+    for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
+        fprintf(f, " %s", sim_scenario_name((sim_scenario_t)k));
+    }
+    fprintf(f,
+            " (default paper_sine)\n"
+            "  --duration S      simulated time [s], 0 < S <= %g (default: the scenario's)\n"
+            "  --seed N          plant noise seed, unsigned integer (default 1)\n"
+            "  --mc N            Monte Carlo over N seeds (--seed, --seed + 1, ...), 1 <= N <= %u;\n"
+            "                    writes <scenario>_mc_metrics.txt/.json instead of the CSV\n"
+            "  --setup 2|3       application filter measurements: 2 = current + angle (default),\n"
+            "                    3 = the paper's current + differentiated velocity + angle\n"
+            "  --qu X            voltage process-noise density [V^2 s], >= 0 (default %g)\n"
+            "  --qT X            torque process-noise density [N^2 m^2 s], >= 0 (default %g)\n"
+            "  --r-current X     current measurement noise VARIANCE [A^2], > 0\n"
+            "  --r-angle X       angle measurement noise VARIANCE [rad^2], > 0\n"
+            "  --r-velocity X    differentiated-velocity noise VARIANCE [(rad/s)^2], > 0 (setup 3)\n"
+            "  --pwm-ripple      the plant resolves the 20 kHz PWM switching\n"
+            "  --drop-every N    skip every N-th application tick (missing samples), N >= 2\n"
+            "  --out DIR         output directory, created if missing (default out)\n"
+            "Outputs: DIR/<scenario>.csv, DIR/<scenario>_metrics.txt, DIR/<scenario>_metrics.json.\n",
+            SIM_DURATION_MAX_S, SIM_MC_SEEDS_MAX, (double)EKF_DEFAULT_QU_V2_S, (double)EKF_DEFAULT_QT_NM2_S);
+}
+
+static int usage_error(const char *fmt, const char *opt, const char *val)
+{
+    fprintf(stderr, "%s: ", s_prog);
+    fprintf(stderr, fmt, opt, val);
+    fputs("\n\n", stderr);
+    usage(stderr);
+    return MAIN_EXIT_USAGE;
+}
+
+/* Parse a finite double; 0 on success. */
+static int parse_double(const char *s, double *out)
+{
+    char *end = NULL;
+    double v;
+    if (s == NULL || *s == '\0') {
+        return -1;
+    }
+    errno = 0;
+    v = strtod(s, &end);
+    if (end == s || *end != '\0' || errno == ERANGE || !(v == v) || v - v != 0.0) {
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+/* Parse an unsigned decimal integer (digits only); 0 on success, -1 not a number, -2 too large. */
+static int parse_u64(const char *s, unsigned long long *out)
+{
+    char *end = NULL;
+    unsigned long long v;
+    const char *p;
+    if (s == NULL || *s == '\0') {
+        return -1;
+    }
+    for (p = s; *p != '\0'; ++p) {
+        if (*p < '0' || *p > '9') {
+            return -1;
+        }
+    }
+    errno = 0;
+    v = strtoull(s, &end, 10);
+    if (errno == ERANGE) {
+        return -2;
+    }
+    if (end == s || *end != '\0') {
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+/* mkdir -p; 0 on success. */
+static int make_dirs(const char *dir)
+{
+    char buf[MAIN_PATH_MAX];
+    size_t n = strlen(dir);
+    size_t k;
+    struct stat st;
+    if (n == 0u || n >= sizeof buf) {
+        return -1;
+    }
+    memcpy(buf, dir, n + 1u);
+    for (k = 1; k <= n; ++k) {
+        if (buf[k] == '/' || buf[k] == '\0') {
+            const char c = buf[k];
+            buf[k] = '\0';
+            if (stat(buf, &st) != 0) {
+                if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+                    return -1;
+                }
+            } else if (!S_ISDIR(st.st_mode)) {
+                return -1;
+            }
+            buf[k] = c;
+        }
+    }
+    return 0;
+}
+
+static FILE *open_out(const char *dir, const char *scn, const char *suffix, char *path, size_t cap)
+{
+    FILE *f;
+    const int n = snprintf(path, cap, "%s/%s%s", dir, scn, suffix);
+    if (n < 0 || (size_t)n >= cap) {
+        fprintf(stderr, "%s: output path too long: %s/%s%s\n", s_prog, dir, scn, suffix);
+        return NULL;
+    }
+    f = fopen(path, "w");
+    if (f == NULL) {
+        fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, path, strerror(errno));
+    }
+    return f;
+}
+
+static int close_out(FILE *f, const char *path)
+{
+    if (fclose(f) != 0) {
+        fprintf(stderr, "%s: error writing %s\n", s_prog, path);
+        return -1;
+    }
+    return 0;
+}
+
+/* Monte Carlo progress on stderr: a rewritten line on a terminal, every 10 % otherwise. */
+static void progress(uint32_t done, uint32_t n, void *user)
+{
+    (void)user;
+    if (isatty(fileno(stderr))) {
+        fprintf(stderr, "\rmonte carlo: %lu / %lu runs", (unsigned long)done, (unsigned long)n);
+        if (done == n) {
+            fputc('\n', stderr);
+        }
+    } else if (done == n || (uint64_t)done * 10u / n != (uint64_t)(done - 1u) * 10u / n) {
+        fprintf(stderr, "monte carlo: %lu / %lu runs\n", (unsigned long)done, (unsigned long)n);
+    }
+    fflush(stderr);
+}
+
+int main(int argc, char **argv)
+{
+    sim_options_t opt;
+    const char *out_dir = "out";
+    unsigned long long mc = 0u;
+    int k;
+    int rc;
+    char path[MAIN_PATH_MAX];
+    const char *scn;
+
+    sim_options_default(&opt);
+    for (k = 1; k < argc; ++k) {
+        const char *a = argv[k];
+        const char *v = k + 1 < argc ? argv[k + 1] : NULL;
+        double d = 0.0;
+        unsigned long long u = 0u;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            return 0;
+        }
+        if (strcmp(a, "--pwm-ripple") == 0) {
+            opt.pwm_ripple = 1;
+            continue;
+        }
+        if (strcmp(a, "--scenario") != 0 && strcmp(a, "--duration") != 0 && strcmp(a, "--seed") != 0 &&
+            strcmp(a, "--mc") != 0 && strcmp(a, "--setup") != 0 && strcmp(a, "--qu") != 0 &&
+            strcmp(a, "--qT") != 0 && strcmp(a, "--r-current") != 0 && strcmp(a, "--r-angle") != 0 &&
+            strcmp(a, "--r-velocity") != 0 && strcmp(a, "--drop-every") != 0 && strcmp(a, "--out") != 0) {
+            return usage_error("unknown option '%s'%s", a, "");
+        }
+        if (v == NULL) {
+            return usage_error("option %s needs a value%s", a, "");
+        }
+        ++k;
+        if (strcmp(a, "--scenario") == 0) {
+            if (sim_scenario_from_name(v, &opt.scenario) != TV_OK) {
+                return usage_error("option %s: unknown scenario '%s'", a, v);
+            }
+        } else if (strcmp(a, "--out") == 0) {
+            if (*v == '\0') {
+                return usage_error("option %s: empty directory name%s", a, "");
+            }
+            out_dir = v;
+        } else if (strcmp(a, "--seed") == 0 || strcmp(a, "--mc") == 0 || strcmp(a, "--setup") == 0 ||
+                   strcmp(a, "--drop-every") == 0) {
+            const int prc = parse_u64(v, &u);
+            if (prc == -2) {
+                return usage_error("option %s: %s is out of range (too large)", a, v);
+            }
+            if (prc != 0) {
+                return usage_error("option %s: '%s' is not an unsigned integer", a, v);
+            }
+            if (strcmp(a, "--seed") == 0) {
+                opt.seed = (uint64_t)u;
+            } else if (strcmp(a, "--mc") == 0) {
+                if (u < 1u || u > SIM_MC_SEEDS_MAX) {
+                    return usage_error("option %s: %s is out of range (1 .. 100000)", a, v);
+                }
+                mc = u;
+            } else if (strcmp(a, "--setup") == 0) {
+                if (u != 2u && u != 3u) {
+                    return usage_error("option %s: %s is not 2 or 3", a, v);
+                }
+                opt.setup = u == 2u ? EKF_SETUP_CURRENT_ANGLE : EKF_SETUP_PAPER_3MEAS;
+            } else {
+                if (u < 2u || u > 1000000u) {
+                    return usage_error("option %s: %s is out of range (2 .. 1000000)", a, v);
+                }
+                opt.drop_tick_every = (uint32_t)u;
+            }
+        } else {
+            if (parse_double(v, &d) != 0) {
+                return usage_error("option %s: '%s' is not a finite number", a, v);
+            }
+            if (strcmp(a, "--duration") == 0) {
+                if (!(d > 0.0) || d > SIM_DURATION_MAX_S) {
+                    return usage_error("option %s: %s is out of range (0 < S <= 600)", a, v);
+                }
+                opt.duration_s = d;
+            } else if (strcmp(a, "--qu") == 0 || strcmp(a, "--qT") == 0) {
+                if (d < 0.0) {
+                    return usage_error("option %s: %s is negative (a noise density is >= 0)", a, v);
+                }
+                opt.q_override = 1;
+                if (strcmp(a, "--qu") == 0) { /* the density not given keeps its default */
+                    opt.qu_V2_s = d;
+                } else {
+                    opt.qT_Nm2_s = d;
+                }
+            } else {
+                if (!(d > 0.0)) {
+                    return usage_error("option %s: %s is not > 0 (a variance)", a, v);
+                }
+                if (strcmp(a, "--r-current") == 0) {
+                    opt.r_current_A2 = d;
+                } else if (strcmp(a, "--r-angle") == 0) {
+                    opt.r_angle_rad2 = d;
+                } else {
+                    opt.r_velocity_rad2_s2 = d;
+                }
+            }
+        }
+    }
+    if (make_dirs(out_dir) != 0) {
+        fprintf(stderr, "%s: cannot create output directory %s: %s\n", s_prog, out_dir, strerror(errno));
+        return MAIN_EXIT_FAIL;
+    }
+    scn = sim_scenario_name(opt.scenario);
+
+    if (mc > 0u) {
+        sim_mc_result_t m;
+        FILE *f;
+        rc = sim_monte_carlo(&opt, (uint32_t)mc, progress, NULL, &m);
+        if (rc != TV_OK) {
+            fprintf(stderr, "%s: Monte Carlo failed: %s\n", s_prog, tv_status_str(rc));
+            return MAIN_EXIT_FAIL;
+        }
+        (void)sim_mc_print(stdout, &m);
+        f = open_out(out_dir, scn, "_mc_metrics.txt", path, sizeof path);
+        if (f == NULL) {
+            return MAIN_EXIT_FAIL;
+        }
+        rc = sim_mc_print(f, &m);
+        if (close_out(f, path) != 0 || rc != TV_OK) {
+            return MAIN_EXIT_FAIL;
+        }
+        fprintf(stderr, "wrote %s\n", path);
+        f = open_out(out_dir, scn, "_mc_metrics.json", path, sizeof path);
+        if (f == NULL) {
+            return MAIN_EXIT_FAIL;
+        }
+        rc = sim_mc_json(f, &m);
+        if (close_out(f, path) != 0 || rc != TV_OK) {
+            return MAIN_EXIT_FAIL;
+        }
+        fprintf(stderr, "wrote %s\n", path);
+        return 0;
+    }
+
+    {
+        sim_result_t r;
+        FILE *f = open_out(out_dir, scn, ".csv", path, sizeof path);
+        if (f == NULL) {
+            return MAIN_EXIT_FAIL;
+        }
+        opt.csv = f;
+        rc = sim_run(&opt, &r);
+        if (close_out(f, path) != 0) {
+            return MAIN_EXIT_FAIL;
+        }
+        if (rc != TV_OK) {
+            fprintf(stderr, "%s: run failed: %s\n", s_prog, tv_status_str(rc));
+            return MAIN_EXIT_FAIL;
+        }
+        fprintf(stderr, "wrote %s\n", path);
+        (void)sim_result_print(stdout, &r);
+        f = open_out(out_dir, scn, "_metrics.txt", path, sizeof path);
+        if (f == NULL) {
+            return MAIN_EXIT_FAIL;
+        }
+        rc = sim_result_print(f, &r);
+        if (close_out(f, path) != 0 || rc != TV_OK) {
+            return MAIN_EXIT_FAIL;
+        }
+        fprintf(stderr, "wrote %s\n", path);
+        f = open_out(out_dir, scn, "_metrics.json", path, sizeof path);
+        if (f == NULL) {
+            return MAIN_EXIT_FAIL;
+        }
+        rc = sim_result_json(f, &r);
+        if (close_out(f, path) != 0 || rc != TV_OK) {
+            return MAIN_EXIT_FAIL;
+        }
+        fprintf(stderr, "wrote %s\n", path);
+    }
+    return 0;
+}
