@@ -395,8 +395,9 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         }
         out->duty = (float)duty;
         out->bridge_enable = enable;
-        /* What the model will see over the next period. */
-        app->u_applied_V = enable ? duty * out->supply_V : open_bridge_voltage(app);
+        /* What the model will see over the next period: the duty as the PWM gets it (float), so
+         * a log of duties replays to the same estimates. */
+        app->u_applied_V = enable ? (tv_real_t)out->duty * out->supply_V : open_bridge_voltage(app);
     }
 
     memcpy(out->z, meas.z, sizeof out->z);
