@@ -5,6 +5,7 @@
  */
 #include "tv_model.h"
 
+#include "tv_paper.h"
 #include "tv_status.h"
 
 #include <stddef.h>
@@ -14,25 +15,25 @@ void tvm_params_default(tvm_params_t *p)
     if (p == NULL) {
         return;
     }
-    p->R_ohm = TV_R(4.3);
-    p->L_H = TV_R(0.002);
-    p->Ke_V_s_rad = TV_R(0.017);
-    p->Kt_Nm_A = TV_R(0.017);
-    p->J_kg_m2 = TV_R(0.0016);
-    p->n_gear = TV_R(40.0);
-    p->Mc_Nm = TV_R(0.2);
-    p->M0_Nm = TV_R(0.25);
-    p->c_Nm_rad = TV_R(0.059);
-    p->Kv_Nm_s_rad = TV_R(0.01);
-    p->Ms_Nm = TV_R(0.3);
-    p->ws_rad_s = TV_R(1.0);
+    p->R_ohm = (tv_real_t)TV_PAPER_R_OHM;
+    p->L_H = (tv_real_t)TV_PAPER_L_H;
+    p->Ke_V_s_rad = (tv_real_t)TV_PAPER_KE_V_S_RAD;
+    p->Kt_Nm_A = (tv_real_t)TV_PAPER_KT_NM_A;
+    p->J_kg_m2 = (tv_real_t)TV_PAPER_J_KG_M2;
+    p->n_gear = (tv_real_t)TV_PAPER_N_GEAR;
+    p->Mc_Nm = (tv_real_t)TV_PAPER_MC_NM;
+    p->M0_Nm = (tv_real_t)TV_PAPER_M0_NM;
+    p->c_Nm_rad = (tv_real_t)TV_PAPER_C_NM_RAD;
+    p->Kv_Nm_s_rad = (tv_real_t)TV_PAPER_KV_NM_S_RAD;
+    p->Ms_Nm = (tv_real_t)TV_PAPER_MS_NM;
+    p->ws_rad_s = (tv_real_t)TV_PAPER_WS_RAD_S;
     p->phi_closed_rad = TV_R(-0.10);
     p->phi_open_rad = TV_R(1.3660766); /* -0.10 + 84 deg */
     p->k_stop_Nm_rad = TV_R(1.0e4);
     p->d_stop_Nm_s_rad = TV_R(2.4);
     p->e_phi_rad = TV_R(1.0e-3);
     p->e_w_rad_s = TV_R(1.0e-3);
-    p->Ts_s = TV_R(1.0e-3);
+    p->Ts_s = (tv_real_t)TV_PAPER_TS_S;
     p->substeps = 10;
 }
 

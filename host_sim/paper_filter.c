@@ -9,7 +9,8 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "../firmware/tv_status.h"
+#include "tv_paper.h"
+#include "tv_status.h"
 
 #define PAPER_PI 3.14159265358979323846
 
@@ -26,19 +27,19 @@ void paper_filter_config_default(paper_filter_config_t *cfg)
         return;
     }
     memset(cfg, 0, sizeof *cfg);
-    cfg->R_ohm = 4.3;
-    cfg->L_H = 0.002;
-    cfg->Ke_V_s_rad = 0.017;
-    cfg->Kt_Nm_A = 0.017;
-    cfg->J_kg_m2 = 0.0016;
-    cfg->n_gear = 40.0;
-    cfg->Mc_Nm = 0.2;
-    cfg->M0_Nm = 0.25;
-    cfg->c_Nm_rad = 0.059;
-    cfg->Kv_Nm_s_rad = 0.01;
-    cfg->Ms_Nm = 0.3;
-    cfg->ws_rad_s = 1.0;
-    cfg->Ts_s = 1e-3;
+    cfg->R_ohm = TV_PAPER_R_OHM;
+    cfg->L_H = TV_PAPER_L_H;
+    cfg->Ke_V_s_rad = TV_PAPER_KE_V_S_RAD;
+    cfg->Kt_Nm_A = TV_PAPER_KT_NM_A;
+    cfg->J_kg_m2 = TV_PAPER_J_KG_M2;
+    cfg->n_gear = TV_PAPER_N_GEAR;
+    cfg->Mc_Nm = TV_PAPER_MC_NM;
+    cfg->M0_Nm = TV_PAPER_M0_NM;
+    cfg->c_Nm_rad = TV_PAPER_C_NM_RAD;
+    cfg->Kv_Nm_s_rad = TV_PAPER_KV_NM_S_RAD;
+    cfg->Ms_Nm = TV_PAPER_MS_NM;
+    cfg->ws_rad_s = TV_PAPER_WS_RAD_S;
+    cfg->Ts_s = TV_PAPER_TS_S;
     cfg->sign_gain = 1e3;
     cfg->predict = PAPER_PREDICT_EQ21;
     cfg->jacobian = PAPER_JACOBIAN_EQ27;

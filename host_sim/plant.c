@@ -8,6 +8,7 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "tv_paper.h"
 #include "tv_status.h"
 
 /** pi (C99 has no M_PI). */
@@ -75,18 +76,18 @@ void plant_config_default(plant_config_t *cfg)
     if (cfg == NULL) {
         return;
     }
-    cfg->R_ohm = 4.3;
-    cfg->L_H = 0.002;
-    cfg->Ke_V_s_rad = 0.017;
-    cfg->Kt_Nm_A = 0.017;
-    cfg->J_kg_m2 = 0.0016;
-    cfg->n_gear = 40.0;
-    cfg->Mc_Nm = 0.2;
-    cfg->Ms_Nm = 0.3;
-    cfg->ws_rad_s = 1.0;
-    cfg->Kv_Nm_s_rad = 0.01;
-    cfg->M0_Nm = 0.25;
-    cfg->c_Nm_rad = 0.059;
+    cfg->R_ohm = TV_PAPER_R_OHM;
+    cfg->L_H = TV_PAPER_L_H;
+    cfg->Ke_V_s_rad = TV_PAPER_KE_V_S_RAD;
+    cfg->Kt_Nm_A = TV_PAPER_KT_NM_A;
+    cfg->J_kg_m2 = TV_PAPER_J_KG_M2;
+    cfg->n_gear = TV_PAPER_N_GEAR;
+    cfg->Mc_Nm = TV_PAPER_MC_NM;
+    cfg->Ms_Nm = TV_PAPER_MS_NM;
+    cfg->ws_rad_s = TV_PAPER_WS_RAD_S;
+    cfg->Kv_Nm_s_rad = TV_PAPER_KV_NM_S_RAD;
+    cfg->M0_Nm = TV_PAPER_M0_NM;
+    cfg->c_Nm_rad = TV_PAPER_C_NM_RAD;
     cfg->limp_home_width_rad = 1e-4;
     cfg->phi_closed_rad = -0.10;
     cfg->phi_open_rad = -0.10 + 84.0 * PLANT_PI / 180.0;

@@ -8,7 +8,7 @@
 #include <stddef.h>
 #include <string.h>
 
-#include "../firmware/tv_status.h"
+#include "tv_status.h"
 
 /** Largest standard (11-bit) and extended (29-bit) CAN identifiers. */
 #define SIM_HAL_CAN_STD_ID_MAX 0x7FFu
