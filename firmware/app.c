@@ -91,7 +91,7 @@ static int check_control(const app_control_t *c)
     if (!finite_all(v, sizeof v / sizeof v[0])) {
         return TV_ERR_NONFINITE;
     }
-    if ((unsigned)c->mode > (unsigned)APP_MODE_POSITION || c->amplitude_V < TV_R(0.0) ||
+    if ((unsigned)c->mode > (unsigned)APP_MODE_EXTERNAL || c->amplitude_V < TV_R(0.0) ||
         c->freq_Hz < TV_R(0.0) || c->chirp_f1_Hz < TV_R(0.0) || !(c->chirp_period_s > TV_R(0.0)) ||
         c->target_margin_rad < TV_R(0.0) || c->kp_V_rad < TV_R(0.0) || c->ki_V_rad_s < TV_R(0.0) ||
         c->kd_V_s_rad < TV_R(0.0) || c->i_limit_V < TV_R(0.0) || !(c->duty_limit > TV_R(0.0)) ||
@@ -381,7 +381,21 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     }
 
     /* Control and output. Any latched fault: safe state. */
-    {
+    if (app->cfg.control.mode == APP_MODE_EXTERNAL) {
+        /* Another controller drives the bridge: predict with what it applies. NaN fails both
+         * comparisons, +-Inf the range. */
+        const float d = in->duty_ext;
+        const int valid = d >= -1.0f && d <= 1.0f && in->bridge_ext <= 1u;
+        const int enabled = valid && in->bridge_ext == 1u;
+        if (!valid) {
+            app->faults |= APP_FAULT_EXT_CMD;
+        }
+        app->integ_V = TV_R(0.0);
+        out->u_cmd_V = enabled ? (tv_real_t)d * out->supply_V : TV_R(0.0);
+        out->duty = enabled && app->faults == 0u ? d : 0.0f;
+        out->bridge_enable = enabled && app->faults == 0u ? 1u : 0u;
+        app->u_applied_V = enabled ? (tv_real_t)d * out->supply_V : open_bridge_voltage(app);
+    } else {
         const tv_real_t t_s = (tv_real_t)(in->t_us - app->t0_us) * TV_R(1e-6);
         tv_real_t duty = TV_R(0.0);
         uint8_t enable = 0u;

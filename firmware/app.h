@@ -2,7 +2,9 @@
  * @file app.h
  * @brief The 1 kHz application step, the same on every platform:
  *        raw ADC counts -> physical units (calibration) -> plausibility checks -> EKF ->
- *        control (open-loop excitation or closed-loop position) -> PWM duty and bridge enable.
+ *        control (open-loop excitation or closed-loop position) -> PWM duty and bridge enable;
+ *        or, in APP_MODE_EXTERNAL, estimation alone with the duty another controller applied
+ *        (replay of logged bench streams: host_sim/replay.h).
  *
  * app_step() is pure (inputs in, outputs out, state in the caller-owned app_t); app_tick() in
  * app_tick.c wraps it with the HAL for the platforms. Nothing here touches hardware.
@@ -33,7 +35,20 @@ typedef enum {
     APP_MODE_SINE = 1,        /**< open loop: u = amplitude sin(2 pi f t) (the paper's experiment) */
     APP_MODE_STEPS = 2,       /**< open loop: square wave of +-amplitude at frequency f */
     APP_MODE_CHIRP = 3,       /**< open loop: sine sweeping f0 -> f1 over chirp_period */
-    APP_MODE_POSITION = 4     /**< closed loop on the estimated angle */
+    APP_MODE_POSITION = 4,    /**< closed loop on the estimated angle */
+    /**
+     * Observer of another controller (replay of bench logs, an ECU listening next to the real
+     * controller): the duty and bridge enable that controller applied come in with each sample
+     * (app_input_t::duty_ext, bridge_ext) and the estimator predicts the next period with them,
+     * exactly as it does with its own command in the other modes (same float duty times the
+     * measured supply; the open-bridge voltage when disabled). No control law runs.
+     * Outputs: out->duty / bridge_enable echo the external command while no fault is latched
+     * and are 0 / 0 otherwise (the safe state, as in every mode); the prediction keeps using
+     * the external command, because that is what the actuator receives. An invalid command
+     * (duty NaN or Inf, |duty| > 1, enable not 0/1) latches APP_FAULT_EXT_CMD and is treated as
+     * a disabled bridge for the prediction; it is never used as a number.
+     */
+    APP_MODE_EXTERNAL = 5
 } app_mode_t;
 
 /** Fault flags (bit mask, latched). */
@@ -45,7 +60,8 @@ enum {
     APP_FAULT_SUPPLY_RANGE = 1u << 4,   /**< supply voltage outside its window */
     APP_FAULT_DRIVER = 1u << 5,         /**< H-bridge driver fault input active */
     APP_FAULT_ESTIMATOR = 1u << 6,      /**< the EKF rejected its inputs repeatedly */
-    APP_FAULT_TIMING = 1u << 7          /**< samples missing / time going backwards */
+    APP_FAULT_TIMING = 1u << 7,         /**< samples missing / time going backwards */
+    APP_FAULT_EXT_CMD = 1u << 8         /**< APP_MODE_EXTERNAL: invalid external duty / enable */
 };
 
 /** Count-to-unit calibration of the ECU's analogue front end. */
@@ -97,6 +113,12 @@ typedef struct {
     uint16_t adc[4];       /**< raw counts: current, tps1, tps2, supply (hal.h order) */
     uint64_t t_us;         /**< sample time [us] */
     uint8_t driver_fault;  /**< H-bridge driver fault input */
+    /** APP_MODE_EXTERNAL only (not read in other modes): the PWM duty another controller applies
+     *  over the period that starts at this sample, [-1, 1], as the PWM receives it (float). */
+    float duty_ext;
+    /** APP_MODE_EXTERNAL only (not read in other modes): 1 if that controller's bridge is
+     *  enabled over the period, 0 if not. */
+    uint8_t bridge_ext;
 } app_input_t;
 
 /** Outputs of one step, with everything worth logging. */

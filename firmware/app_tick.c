@@ -36,6 +36,8 @@ int app_tick(app_t *app, app_output_t *out)
         fault = 1; /* an unreadable fault input is a fault */
     }
     in.driver_fault = fault ? 1u : 0u;
+    in.duty_ext = 0.0f; /* no external controller on a platform tick */
+    in.bridge_ext = 0u;
     app_step(app, &in, out);
     if (out->bridge_enable) {
         rc = hal_pwm_set_duty(out->duty);

@@ -14,6 +14,8 @@
 #include <sys/types.h>
 #include <unistd.h>
 
+#include "params.h"
+#include "rawlog_write.h"
 #include "sim.h"
 #include "tv_status.h"
 
@@ -21,10 +23,45 @@
 #define MAIN_EXIT_USAGE 2
 /** Exit code for a run or I/O failure. */
 #define MAIN_EXIT_FAIL 1
+/** Exit code for an invalid parameter file. */
+#define MAIN_EXIT_PARAMS 3
 /** Longest output path built [chars]. */
 #define MAIN_PATH_MAX 4096
 
 static const char *s_prog = "host_sim";
+
+/* Parameter settings and the raw-log writer (large: static). */
+static params_t s_params;
+static app_config_t s_app_cfg;
+static rlw_t s_raw;
+
+/* Row callback: one raw-log record per application tick. */
+typedef struct {
+    rlw_t *w;
+    int rc;
+} raw_ctx_t;
+
+static void raw_row(const sim_row_t *row, void *user)
+{
+    raw_ctx_t *c = (raw_ctx_t *)user;
+    rawlog_record_t r;
+    int k;
+    if (c->rc != TV_OK) {
+        return;
+    }
+    memset(&r, 0, sizeof r);
+    r.t_us = row->t_us;
+    r.duty = row->duty_f;
+    for (k = 0; k < 4; ++k) {
+        r.adc[k] = row->adc[k];
+    }
+    r.driver_fault = row->driver_fault;
+    r.bridge_enable = row->bridge_enable ? 1u : 0u;
+    for (k = 0; k < 3; ++k) {
+        r.truth[k] = row->truth[k];
+    }
+    c->rc = rlw_put(c->w, &r);
+}
 
 static void usage(FILE *f)
 {
@@ -32,7 +69,8 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: %s [--scenario NAME] [--duration S] [--seed N] [--mc N] [--setup 2|3]\n"
             "          [--qu X] [--qT X] [--r-current X] [--r-angle X] [--r-velocity X]\n"
-            "          [--pwm-ripple] [--drop-every N] [--out DIR] [--help]\n"
+            "          [--pwm-ripple] [--drop-every N] [--out DIR] [--params FILE] [--print-params]\n"
+            "          [--raw-log PATH [--raw-format csv|bin]] [--help]\n"
             "\n"
             "Runs the firmware's 1 kHz application (double build) against the high-fidelity plant.\n"
             "With no arguments: the paper's experiment (paper_sine, 2 s, seed 1) into out/.\n"
@@ -58,7 +96,15 @@ static void usage(FILE *f)
             "  --pwm-ripple      the plant resolves the 20 kHz PWM switching\n"
             "  --drop-every N    skip every N-th application tick (missing samples), N >= 2\n"
             "  --out DIR         output directory, created if missing (default out)\n"
-            "Outputs: DIR/<scenario>.csv, DIR/<scenario>_metrics.txt, DIR/<scenario>_metrics.json.\n",
+            "  --params FILE     application parameters (model, noise, calibration, limits) as\n"
+            "                    key = value lines (host_sim/params.h; the plant keeps its own)\n"
+            "  --print-params    print the parameter file of the defaults (with --params: of the\n"
+            "                    result) and exit\n"
+            "  --raw-log PATH    also write the raw ADC stream the application read (counts, duty,\n"
+            "                    driver fault, bridge enable, plant truth) for replay\n"
+            "  --raw-format F    csv (default) or bin (TVRAWLOG), host_sim/LOG_FORMATS.md\n"
+            "Outputs: DIR/<scenario>.csv, DIR/<scenario>_metrics.txt, DIR/<scenario>_metrics.json.\n"
+            "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n",
             SIM_DURATION_MAX_S, SIM_MC_SEEDS_MAX, (double)EKF_DEFAULT_QU_V2_S, (double)EKF_DEFAULT_QT_NM2_S);
 }
 
@@ -190,6 +236,10 @@ int main(int argc, char **argv)
     int rc;
     char path[MAIN_PATH_MAX];
     const char *scn;
+    const char *params_path = NULL;
+    const char *raw_path = NULL;
+    rlr_format_t raw_format = RLR_FMT_CSV;
+    int print_params = 0;
 
     sim_options_default(&opt);
     for (k = 1; k < argc; ++k) {
@@ -205,10 +255,15 @@ int main(int argc, char **argv)
             opt.pwm_ripple = 1;
             continue;
         }
+        if (strcmp(a, "--print-params") == 0) {
+            print_params = 1;
+            continue;
+        }
         if (strcmp(a, "--scenario") != 0 && strcmp(a, "--duration") != 0 && strcmp(a, "--seed") != 0 &&
             strcmp(a, "--mc") != 0 && strcmp(a, "--setup") != 0 && strcmp(a, "--qu") != 0 &&
             strcmp(a, "--qT") != 0 && strcmp(a, "--r-current") != 0 && strcmp(a, "--r-angle") != 0 &&
-            strcmp(a, "--r-velocity") != 0 && strcmp(a, "--drop-every") != 0 && strcmp(a, "--out") != 0) {
+            strcmp(a, "--r-velocity") != 0 && strcmp(a, "--drop-every") != 0 && strcmp(a, "--out") != 0 &&
+            strcmp(a, "--params") != 0 && strcmp(a, "--raw-log") != 0 && strcmp(a, "--raw-format") != 0) {
             return usage_error("unknown option '%s'%s", a, "");
         }
         if (v == NULL) {
@@ -218,6 +273,17 @@ int main(int argc, char **argv)
         if (strcmp(a, "--scenario") == 0) {
             if (sim_scenario_from_name(v, &opt.scenario) != TV_OK) {
                 return usage_error("option %s: unknown scenario '%s'", a, v);
+            }
+        } else if (strcmp(a, "--params") == 0) {
+            params_path = v;
+        } else if (strcmp(a, "--raw-log") == 0) {
+            if (*v == '\0') {
+                return usage_error("option %s: empty path%s", a, "");
+            }
+            raw_path = v;
+        } else if (strcmp(a, "--raw-format") == 0) {
+            if (rlr_format_from_name(v, &raw_format) != TV_OK || raw_format == RLR_FMT_AUTO) {
+                return usage_error("option %s: '%s' is not csv or bin", a, v);
             }
         } else if (strcmp(a, "--out") == 0) {
             if (*v == '\0') {
@@ -284,6 +350,30 @@ int main(int argc, char **argv)
             }
         }
     }
+    if (params_path != NULL || print_params) {
+        char err[PARAMS_MSG_MAX];
+        params_init(&s_params, params_path);
+        if (params_path != NULL) {
+            rc = params_load(&s_params, params_path, err, sizeof err);
+            if (rc != TV_OK) {
+                fprintf(stderr, "%s: %s\n", s_prog, err);
+                return rc == TV_ERR_IO ? MAIN_EXIT_FAIL : MAIN_EXIT_PARAMS;
+            }
+        }
+        app_config_default(&s_app_cfg);
+        rc = params_apply(&s_params, &s_app_cfg, err, sizeof err);
+        if (rc != TV_OK) {
+            fprintf(stderr, "%s: %s\n", s_prog, err);
+            return MAIN_EXIT_PARAMS;
+        }
+        if (print_params) {
+            return params_write(stdout, &s_app_cfg, &s_params) == TV_OK ? 0 : MAIN_EXIT_FAIL;
+        }
+        opt.app = &s_app_cfg;
+    }
+    if (raw_path != NULL && mc > 0u) {
+        return usage_error("--raw-log writes one run; it cannot be combined with --mc%s%s", "", "");
+    }
     if (make_dirs(out_dir) != 0) {
         fprintf(stderr, "%s: cannot create output directory %s: %s\n", s_prog, out_dir, strerror(errno));
         return MAIN_EXIT_FAIL;
@@ -322,20 +412,72 @@ int main(int argc, char **argv)
 
     {
         sim_result_t r;
+        FILE *raw = NULL;
+        raw_ctx_t raw_ctx;
         FILE *f = open_out(out_dir, scn, ".csv", path, sizeof path);
         if (f == NULL) {
             return MAIN_EXIT_FAIL;
+        }
+        raw_ctx.w = &s_raw;
+        raw_ctx.rc = TV_OK;
+        if (raw_path != NULL) {
+            rawlog_header_t h;
+            const app_calib_t *c = opt.app != NULL ? &opt.app->calib : NULL;
+            app_config_t def;
+            plant_config_t pc;
+            if (c == NULL) {
+                app_config_default(&def);
+                c = &def.calib;
+            }
+            plant_config_default(&pc);
+            rawlog_header_default(&h);
+            h.flags = RAWLOG_FLAG_TRUTH;
+            h.adc_bits = (uint8_t)pc.adc_bits;
+            h.current_offset_counts = (double)c->current_offset_counts;
+            h.current_A_per_count = (double)c->current_A_per_count;
+            h.tps1_counts_at_zero = (double)c->tps1_counts_at_zero;
+            h.tps1_rad_per_count = (double)c->tps1_rad_per_count;
+            h.tps2_counts_at_zero = (double)c->tps2_counts_at_zero;
+            h.tps2_rad_per_count = (double)c->tps2_rad_per_count;
+            h.supply_V_per_count = (double)c->supply_V_per_count;
+            raw = fopen(raw_path, raw_format == RLR_FMT_BIN ? "wb" : "w");
+            if (raw == NULL) {
+                fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, raw_path, strerror(errno));
+                (void)fclose(f);
+                return MAIN_EXIT_FAIL;
+            }
+            rc = rlw_open(&s_raw, raw, raw_format, &h, "written by host_sim (the application's ADC reads, duty and plant truth)");
+            if (rc != TV_OK) {
+                fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, raw_path, tv_status_str(rc));
+                (void)fclose(raw);
+                (void)fclose(f);
+                return MAIN_EXIT_FAIL;
+            }
+            opt.row_fn = raw_row;
+            opt.row_user = &raw_ctx;
         }
         opt.csv = f;
         rc = sim_run(&opt, &r);
         if (close_out(f, path) != 0) {
             return MAIN_EXIT_FAIL;
         }
+        if (raw != NULL) {
+            const int wrc = rlw_close(&s_raw);
+            if (fclose(raw) != 0 || wrc != TV_OK || raw_ctx.rc != TV_OK) {
+                fprintf(stderr, "%s: error writing %s: %s\n", s_prog, raw_path,
+                        tv_status_str(raw_ctx.rc != TV_OK ? raw_ctx.rc : TV_ERR_IO));
+                return MAIN_EXIT_FAIL;
+            }
+        }
         if (rc != TV_OK) {
             fprintf(stderr, "%s: run failed: %s\n", s_prog, tv_status_str(rc));
             return MAIN_EXIT_FAIL;
         }
         fprintf(stderr, "wrote %s\n", path);
+        if (raw != NULL) {
+            fprintf(stderr, "wrote %s (%s, %llu records)\n", raw_path, rlr_format_name(raw_format),
+                    (unsigned long long)s_raw.records);
+        }
         (void)sim_result_print(stdout, &r);
         f = open_out(out_dir, scn, "_metrics.txt", path, sizeof path);
         if (f == NULL) {

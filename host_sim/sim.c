@@ -574,6 +574,12 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
                 row.adc[3] = adc.supply_counts;
             }
         }
+        (void)sim_hal_last_adc_time_us(&row.t_us);
+        {
+            int drv = 0;
+            row.driver_fault = hal_driver_fault(&drv) == TV_OK && drv ? 1u : 0u;
+        }
+        row.duty_f = out.duty;
         row.u_applied_V = (double)app->u_applied_V;
         row.duty = (double)out.duty;
         row.bridge_enable = out.bridge_enable;

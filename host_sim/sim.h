@@ -98,8 +98,11 @@ typedef enum {
 /** One logged tick. Angles [rad], velocities [rad/s], currents [A], voltages [V]. */
 typedef struct {
     double t_s;                 /**< sample time [s] */
+    uint64_t t_us;              /**< sample time the application read with the ADC [us] (hal_adc_read) */
     double truth[TVM_NX];       /**< plant state at t_s */
     uint16_t adc[4];            /**< raw counts the application read (hal.h order) */
+    uint8_t driver_fault;       /**< driver-fault input the application read */
+    float duty_f;               /**< duty written, exactly as the PWM received it (float) */
     double u_applied_V;         /**< voltage the application applies over [t_s, t_s + 1 ms) as its model sees it */
     double u_bridge_V;          /**< mean true winding voltage over [t_s, t_s + 1 ms) (plant) */
     double duty;                /**< duty written [-] */

@@ -282,6 +282,18 @@ int hal_adc_read(hal_adc_sample_t *sample)
     return TV_OK;
 }
 
+int sim_hal_last_adc_time_us(uint64_t *t_us)
+{
+    if (t_us == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!s_have_last_adc) {
+        return TV_ERR_CONFIG;
+    }
+    *t_us = sim_hal_us(s_last_adc.t_s);
+    return TV_OK;
+}
+
 uint64_t hal_time_us(void)
 {
     return s_configured ? sim_hal_us(plant_time_s(&s_plant)) : 0u;

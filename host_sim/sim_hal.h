@@ -117,6 +117,12 @@ void sim_hal_fail_adc_reads(uint32_t n_reads);
  */
 int sim_hal_last_adc(plant_adc_t *out);
 
+/**
+ * Time stamp hal_adc_read() gave the last conversion [us] (what the application saw as t_us).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG when no conversion was taken since configuring.
+ */
+int sim_hal_last_adc_time_us(uint64_t *t_us);
+
 /** Frames refused by hal_can_send() because the loopback queue was full, since configuring. */
 uint32_t sim_hal_can_overflows(void);
 

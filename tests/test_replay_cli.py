@@ -1,0 +1,236 @@
+#!/usr/bin/env python3
+"""End-to-end tests of the raw-log executables (issue 4): host_sim --raw-log / --params,
+replay, replay_f32, log_convert. Exit codes and messages for every kind of bad input, stdin,
+the skip mode's counts, format conversion both ways, and the exact round trip through the
+executables (replay's estimate columns equal host_sim's, text for text: both print %.9g).
+
+usage: test_replay_cli.py BIN_DIR WORK_DIR   (BIN_DIR holds host_sim, replay, ... of one build)
+Standard library only.
+"""
+import csv
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import zlib
+
+BIN = sys.argv[1]
+WORK = sys.argv[2]
+FAILED = []
+CHECKS = [0]
+
+
+def exe(name):
+    return os.path.join(BIN, name)
+
+
+def run(args, stdin_bytes=None):
+    p = subprocess.run(args, input=stdin_bytes, stdout=subprocess.PIPE, stderr=subprocess.PIPE, timeout=120)
+    return p.returncode, p.stdout, p.stderr.decode("utf-8", "replace")
+
+
+def check(cond, what):
+    CHECKS[0] += 1
+    if not cond:
+        FAILED.append(what)
+        print("FAIL:", what)
+
+
+def path(name):
+    return os.path.join(WORK, name)
+
+
+def write(name, data):
+    mode = "wb" if isinstance(data, bytes) else "w"
+    with open(path(name), mode) as f:
+        f.write(data)
+    return path(name)
+
+
+def body(out):
+    """Output lines without the comment lines (which name the input)."""
+    return [l for l in out.decode().splitlines() if not l.startswith("#")]
+
+
+def expect(args, code, *needles, stdin_bytes=None):
+    rc, out, err = run(args, stdin_bytes)
+    check(rc == code, "%s: exit %d, expected %d\n%s" % (" ".join(args), rc, code, err[-800:]))
+    for n in needles:
+        check(n in err, "%s: stderr lacks %r:\n%s" % (" ".join(args), n, err[-800:]))
+    return out, err
+
+
+def csv_log(rows, meta="# sample_rate_Hz: 1000\n"):
+    head = "t_us,duty,current_counts,tps1_counts,tps2_counts,supply_counts,driver_fault,bridge_enable\n"
+    return head + meta + "".join(r + "\n" for r in rows)
+
+
+def good_rows(n, t0=0):
+    return ["%d,0.1,2048,633,3463,2794,0,1" % (t0 + 1000 * k) for k in range(n)]
+
+
+def main():
+    shutil.rmtree(WORK, ignore_errors=True)
+    os.makedirs(WORK)
+
+    # --- help and usage -------------------------------------------------------------------
+    out, _ = expect([exe("replay"), "--help"], 0)
+    check(b"Exit codes" in out and b"19 finished with --on-error skip" in out, "replay --help lists the exit codes")
+    expect([exe("log_convert"), "--help"], 0)
+    expect([exe("replay"), "--setup", "4"], 2, "'4' is not 2 or 3")
+    expect([exe("replay"), "--bogus"], 2, "unknown option '--bogus'")
+    expect([exe("replay"), "--qu", "nan"], 2, "not a finite number")
+    expect([exe("log_convert"), "--to", "xml"], 2, "is not csv or bin")
+    expect([exe("host_sim"), "--mc", "2", "--raw-log", path("x.csv"), "--out", path("o")], 2, "--mc")
+
+    # --- host_sim writes both formats; replay reproduces its estimates exactly ------------
+    for fmt in ("csv", "bin"):
+        expect([exe("host_sim"), "--duration", "1", "--out", path("sim_" + fmt), "--raw-log",
+                path("raw." + fmt), "--raw-format", fmt], 0)
+    with open(path("raw.bin"), "rb") as f:
+        check(f.read(8) == b"TVRAWLOG", "binary raw log starts with the magic")
+    with open(path("raw.csv")) as f:
+        check(f.readline().startswith("t_us,duty,current_counts"), "CSV raw log starts with the column header")
+    sim_rows = list(csv.DictReader(open(path("sim_csv/paper_sine.csv"))))
+    outs = {}
+    for fmt in ("csv", "bin"):
+        out, err = expect([exe("replay"), path("raw." + fmt)], 0, "1000 samples replayed", "input errors: none")
+        check("\r" not in err, "no progress line when stderr is not a terminal")
+        outs[fmt] = body(out)
+    check(outs["csv"] == outs["bin"], "replay of the CSV and the binary log agree")
+    rep_rows = list(csv.DictReader(outs["bin"]))
+    check(len(rep_rows) == len(sim_rows) == 1000, "one output line per sample")
+    cols = ["i_est_A", "w_est_rad_s", "phi_est_rad", "i_sigma_A", "w_sigma_rad_s", "phi_sigma_rad"]
+    same = all(a[c] == b[c] for a, b in zip(sim_rows, rep_rows) for c in cols)
+    same = same and all(a["innov_i_A"] == b["innov_i_A"] and a["innov_phi_rad"] == b["innov_phi_rad"]
+                        for a, b in zip(sim_rows, rep_rows))
+    check(same, "replay's estimates, sigmas and innovations equal host_sim's (text, %.9g)")
+
+    # float build
+    expect([exe("host_sim_f32"), "--duration", "0.5", "--out", path("sim_f32"), "--raw-log", path("raw32.bin"),
+            "--raw-format", "bin"], 0)
+    out, _ = expect([exe("replay_f32"), path("raw32.bin")], 0)
+    s32 = list(csv.DictReader(open(path("sim_f32/paper_sine.csv"))))
+    r32 = list(csv.DictReader(body(out)))
+    check(len(s32) == len(r32) and all(a[c] == b[c] for a, b in zip(s32, r32) for c in cols),
+          "replay_f32 reproduces host_sim_f32 exactly")
+
+    # stdin, start / stop
+    with open(path("raw.bin"), "rb") as f:
+        out, _ = expect([exe("replay"), "-"], 0, "<stdin>", stdin_bytes=f.read())
+    check(body(out) == outs["bin"], "stdin gives the same output as the file")
+    out, err = expect([exe("replay"), "--start", "0.2", "--stop", "0.2995", path("raw.csv")], 0,
+                      "200 samples before the start time", "100 samples replayed")
+    check(len(body(out)) == 1 + 100, "--start 0.2 --stop 0.2995 replays samples 200..299")
+
+    # --- log_convert both ways, byte-identical on the second pass --------------------------
+    expect([exe("log_convert"), path("raw.csv"), "-o", path("c1.bin")], 0, "1000 records written")
+    expect([exe("log_convert"), path("c1.bin"), "-o", path("c1.csv")], 0)
+    expect([exe("log_convert"), "--to", "bin", "--block-records", "7", path("c1.csv"), "-o", path("c2.bin")], 0)
+    rc, out, _ = run([exe("log_convert"), "--to", "csv", "-"], open(path("c2.bin"), "rb").read())
+    check(rc == 0 and out.decode().replace("<stdin>", "") != "", "log_convert streams stdin to stdout")
+    expect([exe("log_convert"), path("c2.bin"), "-o", path("c2.csv")], 0)
+    check(open(path("c1.csv")).read() == open(path("c2.csv")).read(), "CSV -> bin -> CSV is byte-identical")
+    expect([exe("log_convert"), "--block-records", "64", path("c2.csv"), "-o", path("c3.bin")], 0)
+    check(open(path("c1.bin"), "rb").read() == open(path("c3.bin"), "rb").read(), "bin -> CSV -> bin is byte-identical")
+    out, _ = expect([exe("replay"), path("c2.bin")], 0)
+    check(body(out) == outs["csv"], "a converted log replays identically")
+
+    # --- parameter files ---------------------------------------------------------------------
+    out, _ = expect([exe("replay"), "--print-params"], 0)
+    write("defaults.txt", out)
+    out, _ = expect([exe("replay"), "--params", path("defaults.txt"), path("raw.csv")], 0)
+    check(body(out) == outs["csv"], "the printed defaults as a parameter file change nothing")
+    write("bad_key.txt", "model.R_ohm = 4.3\nmodel.L = 0.002\n")
+    expect([exe("replay"), "--params", path("bad_key.txt"), path("raw.csv")], 3, "bad_key.txt:2: unknown key 'model.L'")
+    write("bad_range.txt", "\n\nekf.r_angle_rad2 = 2\n")
+    expect([exe("replay"), "--params", path("bad_range.txt"), path("raw.csv")], 3,
+           "bad_range.txt:3: ekf.r_angle_rad2 = 2 is out of range")
+    write("dup.txt", "model.J_kg_m2 = 0.0016\nmodel.J_kg_m2 = 0.0017\n")
+    expect([exe("host_sim"), "--params", path("dup.txt"), "--out", path("o")], 3, "dup.txt:2: duplicate key 'model.J_kg_m2'")
+    write("noval.txt", "model.J_kg_m2 =\n")
+    expect([exe("host_sim"), "--params", path("noval.txt"), "--out", path("o")], 3, "noval.txt:1: key 'model.J_kg_m2' has no value")
+    expect([exe("replay"), "--params", path("missing.txt"), path("raw.csv")], 1, "cannot open")
+    # host_sim --params and replay --params: still exact
+    write("p.txt", "model.L_H = 0.0025\nekf.qT_Nm2_s = 1e-5\ncalib.tps1_counts_at_zero = 640\n")
+    expect([exe("host_sim"), "--duration", "0.5", "--params", path("p.txt"), "--out", path("sim_p"),
+            "--raw-log", path("rawp.bin"), "--raw-format", "bin"], 0)
+    out, _ = expect([exe("replay"), "--params", path("p.txt"), path("rawp.bin")], 0)
+    sp = list(csv.DictReader(open(path("sim_p/paper_sine.csv"))))
+    rp = list(csv.DictReader(body(out)))
+    check(len(sp) == len(rp) and all(a[c] == b[c] for a, b in zip(sp, rp) for c in cols),
+          "host_sim --params and replay --params agree exactly")
+    # R / Q overrides on the command line change the estimates
+    out, _ = expect([exe("replay"), "--r-angle", "1e-6", "--qu", "1e-4", path("raw.csv")], 0)
+    check(body(out) != outs["csv"], "--r-angle / --qu change the estimates")
+    out, _ = expect([exe("replay"), "--setup", "3", "--wide", path("raw.csv")], 0)
+    check(body(out)[0].endswith("innov_phi_sigma_rad,i_true_A,w_true_rad_s,phi_true_rad"), "--wide columns")
+    check(body(out)[2].split(",")[10] != "", "set-up 3 uses the velocity channel")
+
+    # --- bad input: each kind, its exit code, its location --------------------------------
+    expect([exe("replay"), path("nonexistent.csv")], 1, "cannot open")
+    expect([exe("replay"), write("empty.csv", "")], 5, "empty.csv: empty input (0 bytes)")
+    expect([exe("replay"), write("hdr.csv", "time,duty\n0,0\n")], 6, "hdr.csv: line 1: the column header has no 't_us' column")
+    expect([exe("replay"), write("rnd.bin", bytes(range(256)) * 4)], 7, "rnd.bin: byte offset 0: binary data with a bad magic")
+    raw = bytearray(open(path("raw.bin"), "rb").read())
+    v2 = bytearray(raw)
+    v2[8] = 2
+    v2[124:128] = struct.pack("<I", zlib.crc32(bytes(v2[:124])))
+    expect([exe("replay"), write("v2.bin", bytes(v2))], 8, "v2.bin: byte offset 8: format version 2 is not supported")
+    expect([exe("replay"), write("long.csv", csv_log(good_rows(2)) + "1" * 5000000 + "\n")], 9,
+           "long.csv: line 5: 5000000 bytes, longer than the 4096-byte line limit")
+    expect([exe("replay"), write("cols.csv", csv_log(good_rows(3) + ["3000,0,1,1,1"]))], 10,
+           "cols.csv: line 6: 5 fields, the column header has 8")
+    expect([exe("replay"), write("num.csv", csv_log(good_rows(1) + ["1000,0.1,20x48,633,3463,2794,0,1"]))], 11,
+           "num.csv: line 4: column 3 (current_counts): '20x48' is not an unsigned integer")
+    expect([exe("replay"), write("nan.csv", csv_log(["0,nan,2048,633,3463,2794,0,1"]))], 12,
+           "nan.csv: line 3: column 2 (duty): 'nan' is not finite")
+    expect([exe("replay"), write("range.csv", csv_log(["0,0,2048,633,4096,2794,0,1"]))], 13,
+           "range.csv: line 3: column 5 (tps2_counts): '4096' is outside the ADC range 0..4095")
+    expect([exe("replay"), write("back.csv", csv_log(good_rows(3) + ["1500,0,2048,633,3463,2794,0,1"]))], 14,
+           "back.csv: line 6: t_us 1500 is 500 us earlier")
+    expect([exe("replay"), write("rep.csv", csv_log(good_rows(3) + ["2000,0,2048,633,3463,2794,0,1"]))], 15,
+           "rep.csv: line 6: t_us 2000 repeats")
+    crc = bytearray(raw)
+    crc[128 + 3100] ^= 0x01  # a bit in block 1
+    expect([exe("replay"), write("crc.bin", bytes(crc))], 16, "crc.bin: byte offset 3212: block 1 CRC mismatch")
+    bs = 8 + 64 * 48 + 4
+    blk = bytearray(raw)
+    blk[128 + 4:128 + 6] = struct.pack("<H", 0)
+    blk[128 + bs - 4:128 + bs] = struct.pack("<I", zlib.crc32(bytes(blk[128:128 + bs - 4])))
+    expect([exe("replay"), write("blk.bin", bytes(blk))], 17, "blk.bin: byte offset 132: block 0 claims 0 valid records")
+    expect([exe("replay"), write("trunc.bin", bytes(raw[:128 + bs + 100]))], 18,
+           "trunc.bin: byte offset 3212: block 1 truncated: 100 of 3084 bytes")
+    expect([exe("replay"), write("trunc_hdr.bin", bytes(raw[:60]))], 18, "truncated header: 60 of 128 bytes")
+    expect([exe("replay"), "--format", "bin", path("raw.csv")], 7, "bad magic")
+    expect([exe("replay"), write("rate.csv", csv_log(good_rows(2), "# sample_rate_Hz: 500\n"))], 4,
+           "the log's sample rate is 500 Hz; the application runs at 1000 Hz")
+    expect([exe("replay"), "--parse-only", path("rate.csv")], 0, "2 samples validated")
+    if os.path.exists("/dev/full"):
+        expect([exe("replay"), path("raw.csv"), "-o", "/dev/full"], 1, "writing the output failed")
+        expect([exe("log_convert"), path("raw.csv"), "-o", "/dev/full"], 1, "failed")
+    # skip mode: every bad line skipped and counted, the good ones replayed, exit 19
+    mixed = csv_log(good_rows(3) + ["3000,x,1,1,1,1,0,1", "3000,0,1,1", "3000,inf,2048,633,3463,2794,0,1",
+                                    "3000,0,2048,633,3463,99999,0,1", "1000,0,2048,633,3463,2794,0,1"]
+                    + good_rows(2, 3000) + ["4000,0,2048,633,3463,2794,0,1"] + good_rows(2, 9000))
+    out, err = expect([exe("replay"), "--on-error", "skip", write("mixed.csv", mixed)], 19,
+                      "[skipped]", "not a number 1;", "wrong column count 1;", "non-finite value 1;",
+                      "value out of range 1;", "timestamp going backwards 1;", "repeated timestamp 1;",
+                      "7 samples replayed", "missing samples: 4", "mixed.csv: line 14: 4 samples missing before t_us 9000")
+    check(len(body(out)) == 1 + 7, "skip mode writes the 7 good samples")
+    expect([exe("replay"), "--on-error", "skip", path("crc.bin")], 19, "CRC mismatch 1;", "936 samples replayed",
+           "missing samples: 64")
+    expect([exe("log_convert"), "--on-error", "skip", path("mixed.csv"), "-o", path("mixed.bin")], 19,
+           "7 records written", "bad inputs skipped")
+    expect([exe("log_convert"), path("nan.csv"), "-o", path("nan.bin")], 12, "nan.csv: line 3")
+    # a gap is not an error: predicted across and reported
+    expect([exe("replay"), write("gap.csv", csv_log(good_rows(3) + good_rows(2, 6000)))], 0,
+           "gap.csv: line 6: 3 samples missing before t_us 6000 (predicted across)", "missing samples: 3")
+
+    print("%d checks, %d failed" % (CHECKS[0], len(FAILED)))
+    return 1 if FAILED else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,215 @@
+/**
+ * @file test_replay_params.c
+ * @brief Tests of the parameter files of host_sim and replay (host_sim/params.h): a written
+ *        file reads back to the same configuration, and every kind of bad file is an error
+ *        naming the file, the line and the key. Built for the double and the float application.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+#include "app.h"
+#include "ekf.h"
+#include "params.h"
+#include "tv_status.h"
+#include "tv_test.h"
+
+static params_t s_p;
+static char s_err[PARAMS_MSG_MAX];
+
+/* Parse text as file "p.txt"; returns the status, message in s_err. */
+static int parse(const char *text)
+{
+    params_init(&s_p, "p.txt");
+    s_err[0] = '\0';
+    return params_parse_text(&s_p, text, strlen(text), s_err, sizeof s_err);
+}
+
+static int has(const char *want)
+{
+    if (strstr(s_err, want) == NULL) {
+        fprintf(stderr, "message '%s' lacks '%s'\n", s_err, want);
+        return 0;
+    }
+    return 1;
+}
+
+/* Write text to a temporary file; path in out. */
+static int temp_file(const char *text, size_t n, char *out, size_t cap)
+{
+    int fd;
+    FILE *f;
+    (void)snprintf(out, cap, "/tmp/tv_params_XXXXXX");
+    fd = mkstemp(out);
+    if (fd < 0) {
+        return -1;
+    }
+    f = fdopen(fd, "wb");
+    if (f == NULL) {
+        (void)close(fd);
+        return -1;
+    }
+    (void)fwrite(text, 1u, n, f);
+    return fclose(f);
+}
+
+static void test_written_defaults_read_back_to_the_same_configuration(void)
+{
+    app_config_t def;
+    app_config_t got;
+    char path[64];
+    static char text[16384];
+    FILE *f = tmpfile();
+    size_t n;
+    TV_CHECK(f != NULL);
+    if (f == NULL) {
+        return;
+    }
+    app_config_default(&def);
+    TV_CHECK_EQ_INT(params_write(f, &def, NULL), TV_OK);
+    rewind(f);
+    n = fread(text, 1u, sizeof text - 1u, f);
+    (void)fclose(f);
+    text[n] = '\0';
+    TV_CHECK(temp_file(text, n, path, sizeof path) == 0);
+    params_init(&s_p, path);
+    TV_CHECK_EQ_INT(params_load(&s_p, path, s_err, sizeof s_err), TV_OK);
+    (void)remove(path);
+    got = def;
+    memset(&got.model, 0, sizeof got.model); /* every model key comes from the file ... */
+    got.model.Ts_s = def.model.Ts_s;         /* ... except the period, which is not a parameter */
+    memset(&got.calib, 0, sizeof got.calib);
+    got.calib.adc_max_counts = def.calib.adc_max_counts;
+    TV_CHECK_EQ_INT(params_apply(&s_p, &got, s_err, sizeof s_err), TV_OK);
+    /* %.17g of every value: the same bits (both builds); Q recomputed from the same inputs */
+    TV_CHECK(memcmp(&got.model, &def.model, sizeof def.model) == 0);
+    TV_CHECK(memcmp(&got.calib, &def.calib, sizeof def.calib) == 0);
+    TV_CHECK(memcmp(&got.limits, &def.limits, sizeof def.limits) == 0);
+    TV_CHECK(memcmp(got.ekf.Q, def.ekf.Q, sizeof def.ekf.Q) == 0);
+    TV_CHECK(memcmp(got.ekf.r, def.ekf.r, sizeof def.ekf.r) == 0);
+    TV_CHECK_EQ_INT(params_is_set(&s_p, "model.R_ohm"), 1);
+}
+
+static void test_values_comments_and_q_recomputation(void)
+{
+    app_config_t c;
+    tv_real_t Q[TVM_NX][TVM_NX];
+    TV_CHECK_EQ_INT(parse("# a comment\n\n  model.L_H = 0.003   # trailing comment\r\n"
+                          "ekf.qu_V2_s=1e-5\nekf.r_angle_rad2 = 4e-8\nlimits.debounce_trip = 3\n"),
+                    TV_OK);
+    app_config_default(&c);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    TV_CHECK(c.model.L_H == (tv_real_t)0.003 && c.ekf.r[EKF_CH_ANGLE] == (tv_real_t)4e-8 && c.limits.debounce_trip == 3u);
+    TV_CHECK_EQ_INT(ekf_q_from_spectral(&c.model, (tv_real_t)1e-5, EKF_DEFAULT_QT_NM2_S, Q), TV_OK);
+    TV_CHECK(memcmp(Q, c.ekf.Q, sizeof Q) == 0); /* Q follows the new L and qu */
+    /* command-line overrides replace a file's value */
+    TV_CHECK_EQ_INT(params_set(&s_p, "ekf.r_angle_rad2", 9e-8, s_err, sizeof s_err), TV_OK);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    TV_CHECK(c.ekf.r[EKF_CH_ANGLE] == (tv_real_t)9e-8);
+    TV_CHECK_EQ_INT(params_set(&s_p, "ekf.r_angle_rad2", -1.0, s_err, sizeof s_err), TV_ERR_RANGE);
+    TV_CHECK(has("command line: ekf.r_angle_rad2 = -1 is out of range"));
+    TV_CHECK_EQ_INT(params_set(&s_p, "nope", 1.0, s_err, sizeof s_err), TV_ERR_FORMAT);
+}
+
+static void test_unknown_key_is_an_error_naming_file_line_and_key(void)
+{
+    TV_CHECK_EQ_INT(parse("model.R_ohm = 4\nmodel.R_Ohm = 4\n"), TV_ERR_FORMAT);
+    TV_CHECK(has("p.txt:2: unknown key 'model.R_Ohm'"));
+}
+
+static void test_missing_value_is_an_error(void)
+{
+    TV_CHECK_EQ_INT(parse("\nmodel.J_kg_m2 =   \n"), TV_ERR_FORMAT);
+    TV_CHECK(has("p.txt:2: key 'model.J_kg_m2' has no value"));
+    TV_CHECK_EQ_INT(parse("model.J_kg_m2 = # only a comment\n"), TV_ERR_FORMAT);
+    TV_CHECK(has("p.txt:1: key 'model.J_kg_m2' has no value"));
+    TV_CHECK_EQ_INT(parse("model.J_kg_m2\n"), TV_ERR_FORMAT);
+    TV_CHECK(has("p.txt:1: expected 'key = value'"));
+    TV_CHECK_EQ_INT(parse(" = 3\n"), TV_ERR_FORMAT);
+    TV_CHECK(has("p.txt:1: missing key"));
+}
+
+static void test_duplicate_key_is_an_error(void)
+{
+    TV_CHECK_EQ_INT(parse("ekf.qT_Nm2_s = 1e-6\n# x\nekf.qT_Nm2_s = 2e-6\n"), TV_ERR_FORMAT);
+    TV_CHECK(has("p.txt:3: duplicate key 'ekf.qT_Nm2_s' (first set on line 1)"));
+}
+
+static void test_out_of_range_values_are_errors(void)
+{
+    TV_CHECK_EQ_INT(parse("model.R_ohm = 0\n"), TV_ERR_RANGE);
+    TV_CHECK(has("p.txt:1: model.R_ohm = 0 is out of range, allowed (0, 1000]"));
+    TV_CHECK_EQ_INT(parse("model.phi_closed_rad = 0.1\n"), TV_ERR_RANGE);
+    TV_CHECK(has("model.phi_closed_rad = 0.1 is out of range, allowed [-1, 0)"));
+    TV_CHECK_EQ_INT(parse("calib.current_A_per_count = 0\n"), TV_ERR_RANGE);
+    TV_CHECK(has("not 0"));
+    TV_CHECK_EQ_INT(parse("model.substeps = 51\n"), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(parse("model.substeps = 2.5\n"), TV_ERR_FORMAT);
+    TV_CHECK(has("model.substeps = 2.5 is not an integer"));
+    TV_CHECK_EQ_INT(parse("ekf.r_current_A2 = -1e-4\n"), TV_ERR_RANGE);
+}
+
+static void test_non_numbers_and_non_finite_values_are_errors(void)
+{
+    TV_CHECK_EQ_INT(parse("model.Kv_Nm_s_rad = fast\n"), TV_ERR_FORMAT);
+    TV_CHECK(has("p.txt:1: model.Kv_Nm_s_rad = fast is not a number"));
+    TV_CHECK_EQ_INT(parse("model.Kv_Nm_s_rad = 0.01 0.02\n"), TV_ERR_FORMAT);
+    TV_CHECK_EQ_INT(parse("model.Kv_Nm_s_rad = nan\n"), TV_ERR_NONFINITE);
+    TV_CHECK(has("p.txt:1: model.Kv_Nm_s_rad = nan is not finite"));
+    TV_CHECK_EQ_INT(parse("model.Kv_Nm_s_rad = 1e999\n"), TV_ERR_NONFINITE);
+}
+
+static void test_cross_field_rules_name_both_keys(void)
+{
+    app_config_t c;
+    TV_CHECK_EQ_INT(parse("model.Mc_Nm = 0.2\nmodel.Ms_Nm = 0.1\n"), TV_OK);
+    app_config_default(&c);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_ERR_RANGE);
+    TV_CHECK(has("model.Mc_Nm (p.txt:1) = 0.2 must be <= model.Ms_Nm (p.txt:2) = 0.1"));
+    TV_CHECK_EQ_INT(parse("limits.supply_max_V = 5\n"), TV_OK);
+    app_config_default(&c);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_ERR_RANGE);
+    TV_CHECK(has("limits.supply_min_V (default) = 8 must be < limits.supply_max_V (p.txt:1) = 5"));
+}
+
+static void test_long_lines_nul_bytes_and_missing_files_are_errors(void)
+{
+    static char text[4096];
+    char path[64];
+    memset(text, ' ', sizeof text);
+    memcpy(text, "model.R_ohm = 4", 15);
+    text[sizeof text - 1u] = '\n';
+    params_init(&s_p, "p.txt");
+    TV_CHECK_EQ_INT(params_parse_text(&s_p, text, sizeof text, s_err, sizeof s_err), TV_ERR_FORMAT);
+    TV_CHECK(has("p.txt:1: line longer than 1024 bytes"));
+    TV_CHECK(temp_file(text, sizeof text, path, sizeof path) == 0);
+    params_init(&s_p, path);
+    TV_CHECK_EQ_INT(params_load(&s_p, path, s_err, sizeof s_err), TV_ERR_FORMAT);
+    TV_CHECK(has(":1: line longer than 1024 bytes"));
+    (void)remove(path);
+    TV_CHECK(temp_file("model.R_ohm = 4\0 junk\n", 22u, path, sizeof path) == 0);
+    params_init(&s_p, path);
+    TV_CHECK_EQ_INT(params_load(&s_p, path, s_err, sizeof s_err), TV_ERR_FORMAT);
+    TV_CHECK(has(":1: NUL byte in the line"));
+    (void)remove(path);
+    params_init(&s_p, "/nonexistent/p.txt");
+    TV_CHECK_EQ_INT(params_load(&s_p, "/nonexistent/p.txt", s_err, sizeof s_err), TV_ERR_IO);
+    TV_CHECK(has("/nonexistent/p.txt: cannot open"));
+}
+
+int main(void)
+{
+    TV_TEST_RUN(test_written_defaults_read_back_to_the_same_configuration);
+    TV_TEST_RUN(test_values_comments_and_q_recomputation);
+    TV_TEST_RUN(test_unknown_key_is_an_error_naming_file_line_and_key);
+    TV_TEST_RUN(test_missing_value_is_an_error);
+    TV_TEST_RUN(test_duplicate_key_is_an_error);
+    TV_TEST_RUN(test_out_of_range_values_are_errors);
+    TV_TEST_RUN(test_non_numbers_and_non_finite_values_are_errors);
+    TV_TEST_RUN(test_cross_field_rules_name_both_keys);
+    TV_TEST_RUN(test_long_lines_nul_bytes_and_missing_files_are_errors);
+    return tv_test_summary();
+}
