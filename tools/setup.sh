@@ -11,6 +11,9 @@ PKGS=(
   gcc-arm-none-eabi libnewlib-arm-none-eabi  # Cortex-M4F cross build
   clang libclang-rt-14-dev               # libFuzzer targets, sanitizer runtime
   cppcheck clang-tidy                    # static analysis in the test command
+  libgpiod-dev                           # Linux controller: GPIO through libgpiod 1.6 (static lib for the VM test)
+  can-utils                              # candump: telemetry capture in the VM test and on the bench
+  qemu-system-x86 busybox-static cpio acpica-tools  # VM test: Debian kernel under QEMU, initramfs, GPIO ACPI table (iasl)
 )
 
 missing=()

@@ -1,0 +1,418 @@
+/**
+ * @file lx_config.c
+ * @brief Configuration file parser of the Linux controller (see lx_config.h).
+ */
+#include "lx_config.h"
+
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "lx_err.h"
+#include "tv_status.h"
+
+/* Value types of the keys. */
+typedef enum { K_INT, K_UINT, K_U16, K_U8, K_DOUBLE, K_BOOL, K_STR, K_MODE } key_type_t;
+
+/* One key: name, type, range (numbers) or capacity (strings), where it goes, required. */
+typedef struct {
+    const char *name;
+    double min;
+    double max;
+    size_t offset;
+    size_t size; /* capacity of K_STR fields */
+    key_type_t type;
+    int required;
+} key_desc_t;
+
+#define OFF(field) offsetof(lx_config_t, field)
+#define NUM(name, type, lo, hi, field, req) {(name), (lo), (hi), OFF(field), 0u, (type), (req)}
+#define STR(name, field, req) {(name), 0.0, 0.0, OFF(field), sizeof(((lx_config_t *)0)->field), K_STR, (req)}
+
+static const key_desc_t s_keys[] = {
+    NUM("rt.priority", K_INT, 0, 99, rt_priority, 0),
+    NUM("rt.cpu", K_INT, -1, 1023, rt_cpu, 0),
+    NUM("rt.lock_memory", K_BOOL, 0, 1, rt_lock_memory, 0),
+    NUM("rt.duration_s", K_UINT, 0, 1e7, rt_duration_s, 0),
+    NUM("rt.max_io_errors", K_UINT, 1, 1000, rt_max_io_errors, 0),
+    STR("pwm.chip", pwm_chip, 1),
+    NUM("pwm.channel_a", K_UINT, 0, 1023, pwm_channel_a, 1),
+    NUM("pwm.channel_b", K_UINT, 0, 1023, pwm_channel_b, 1),
+    NUM("pwm.period_ns", K_UINT, 1000, 1e9, pwm_period_ns, 0),
+    STR("adc.device", adc_device, 1),
+    NUM("adc.channel.current", K_UINT, 0, 255, adc_channel[0], 0),
+    NUM("adc.channel.tps1", K_UINT, 0, 255, adc_channel[1], 0),
+    NUM("adc.channel.tps2", K_UINT, 0, 255, adc_channel[2], 0),
+    NUM("adc.channel.supply", K_UINT, 0, 255, adc_channel[3], 0),
+    NUM("adc.max_counts", K_UINT, 1, 65535, adc_max_counts, 0),
+    STR("gpio.chip", gpio_chip, 1),
+    STR("gpio.consumer", gpio_consumer, 0),
+    NUM("gpio.bridge_enable.line", K_UINT, 0, 65535, gpio_enable_line, 1),
+    NUM("gpio.bridge_enable.active_low", K_BOOL, 0, 1, gpio_enable_active_low, 0),
+    NUM("gpio.driver_fault.line", K_UINT, 0, 65535, gpio_fault_line, 1),
+    NUM("gpio.driver_fault.active_low", K_BOOL, 0, 1, gpio_fault_active_low, 0),
+    STR("can.interface", can_interface, 1),
+    NUM("can.cmd_timeout_ms", K_UINT, 0, CAN_PROTO_TIMEOUT_MAX_MS, can.cmd_timeout_ms, 0),
+    NUM("can.max_counter_delta", K_U8, 1, 14, can.max_counter_delta, 0),
+    NUM("can.period_ms.est_state", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_EST_STATE], 0),
+    NUM("can.period_ms.est_sigma", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_EST_SIGMA], 0),
+    NUM("can.period_ms.est_innov", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_EST_INNOV], 0),
+    NUM("can.period_ms.status", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_STATUS], 0),
+    NUM("can.period_ms.meas", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_MEAS], 0),
+    NUM("can.period_ms.loop", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_LOOP], 0),
+    NUM("can.period_ms.cmd_stats", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_CMD_STATS], 0),
+    NUM("can.period_ms.ekf_stats", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_EKF_STATS], 0),
+    NUM("can.period_ms.time", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_TIME], 0),
+    NUM("app.mode", K_MODE, 0, 4, app_mode, 0),
+    /* the ranges of the command frames (can_proto.h), so a configuration can be commanded */
+    NUM("app.amplitude_V", K_DOUBLE, 0, 24, app_amplitude_V, 0),
+    NUM("app.freq_Hz", K_DOUBLE, 0, 200, app_freq_Hz, 0),
+    NUM("app.chirp_f1_Hz", K_DOUBLE, 0, 200, app_chirp_f1_Hz, 0),
+    NUM("app.chirp_period_s", K_DOUBLE, 0.1, 25.5, app_chirp_period_s, 0),
+    NUM("app.target_rad", K_DOUBLE, -0.5, 2.0, app_target_rad, 0),
+    NUM("app.duty_limit", K_DOUBLE, 0.005, 1.0, app_duty_limit, 0),
+    NUM("calib.current_offset_counts", K_DOUBLE, 0, 65535, calib_current_offset_counts, 0),
+    NUM("calib.current_A_per_count", K_DOUBLE, -1, 1, calib_current_A_per_count, 0),
+    NUM("calib.tps1_counts_at_zero", K_DOUBLE, -65535, 65535, calib_tps1_counts_at_zero, 0),
+    NUM("calib.tps1_rad_per_count", K_DOUBLE, 1e-9, 1, calib_tps1_rad_per_count, 0),
+    NUM("calib.tps2_counts_at_zero", K_DOUBLE, -65535, 65535, calib_tps2_counts_at_zero, 0),
+    NUM("calib.tps2_rad_per_count", K_DOUBLE, -1, -1e-9, calib_tps2_rad_per_count, 0),
+    NUM("calib.supply_V_per_count", K_DOUBLE, 1e-9, 1, calib_supply_V_per_count, 0),
+};
+
+#define N_KEYS (sizeof s_keys / sizeof s_keys[0])
+/* Longest line accepted [bytes]. */
+#define LINE_MAX_LEN 1024u
+/* Largest file read by lx_config_load() [bytes]. */
+#define FILE_MAX_LEN ((size_t)64 * 1024u)
+
+static const char *const s_modes[] = {"off", "sine", "steps", "chirp", "position"};
+
+void lx_config_default(lx_config_t *cfg)
+{
+    tvm_params_t p;
+    app_calib_t c;
+    if (cfg == NULL) {
+        return;
+    }
+    memset(cfg, 0, sizeof *cfg);
+    cfg->rt_priority = 80;
+    cfg->rt_cpu = -1;
+    cfg->rt_lock_memory = 1;
+    cfg->rt_duration_s = 0u;
+    cfg->rt_max_io_errors = 10u;
+    cfg->pwm_period_ns = 50000u;
+    cfg->adc_channel[0] = 0u;
+    cfg->adc_channel[1] = 1u;
+    cfg->adc_channel[2] = 2u;
+    cfg->adc_channel[3] = 3u;
+    cfg->adc_max_counts = 4095u;
+    (void)snprintf(cfg->gpio_consumer, sizeof cfg->gpio_consumer, "%s", "throttle");
+    can_proto_config_default(&cfg->can);
+    cfg->app_mode = (int32_t)APP_MODE_OFF;
+    cfg->app_amplitude_V = 12.0;
+    cfg->app_freq_Hz = 5.0;
+    cfg->app_chirp_f1_Hz = 20.0;
+    cfg->app_chirp_period_s = 2.0;
+    cfg->app_target_rad = 0.3;
+    cfg->app_duty_limit = 0.95;
+    tvm_params_default(&p);
+    app_calib_default(&c, &p);
+    cfg->calib_current_offset_counts = (double)c.current_offset_counts;
+    cfg->calib_current_A_per_count = (double)c.current_A_per_count;
+    cfg->calib_tps1_counts_at_zero = (double)c.tps1_counts_at_zero;
+    cfg->calib_tps1_rad_per_count = (double)c.tps1_rad_per_count;
+    cfg->calib_tps2_counts_at_zero = (double)c.tps2_counts_at_zero;
+    cfg->calib_tps2_rad_per_count = (double)c.tps2_rad_per_count;
+    cfg->calib_supply_V_per_count = (double)c.supply_V_per_count;
+}
+
+static char *trim(char *s)
+{
+    char *e;
+    while (*s == ' ' || *s == '\t' || *s == '\r') {
+        ++s;
+    }
+    e = s + strlen(s);
+    while (e > s && (e[-1] == ' ' || e[-1] == '\t' || e[-1] == '\r' || e[-1] == '\n')) {
+        --e;
+    }
+    *e = '\0';
+    return s;
+}
+
+/* Store one value. Returns TV_OK, TV_ERR_FORMAT or TV_ERR_RANGE with *why set. */
+static int store(const key_desc_t *k, const char *v, lx_config_t *cfg, const char **why)
+{
+    char *base = (char *)cfg + k->offset;
+    char *end = NULL;
+    double d = 0.0;
+    if (k->type == K_STR) {
+        if (v[0] == '\0') {
+            *why = "empty";
+            return TV_ERR_FORMAT;
+        }
+        if (strlen(v) >= k->size) {
+            *why = "too long";
+            return TV_ERR_RANGE;
+        }
+        memcpy(base, v, strlen(v) + 1u);
+        return TV_OK;
+    }
+    if (k->type == K_MODE) {
+        size_t i;
+        for (i = 0; i < sizeof s_modes / sizeof s_modes[0]; ++i) {
+            if (strcmp(v, s_modes[i]) == 0) {
+                int32_t m = (int32_t)i;
+                memcpy(base, &m, sizeof m);
+                return TV_OK;
+            }
+        }
+        *why = "not one of off, sine, steps, chirp, position";
+        return TV_ERR_FORMAT;
+    }
+    if (k->type == K_BOOL) {
+        int32_t b;
+        if (strcmp(v, "1") == 0 || strcmp(v, "yes") == 0 || strcmp(v, "true") == 0) {
+            b = 1;
+        } else if (strcmp(v, "0") == 0 || strcmp(v, "no") == 0 || strcmp(v, "false") == 0) {
+            b = 0;
+        } else {
+            *why = "not a boolean (0/1, no/yes, false/true)";
+            return TV_ERR_FORMAT;
+        }
+        memcpy(base, &b, sizeof b);
+        return TV_OK;
+    }
+    errno = 0;
+    if (k->type == K_DOUBLE) {
+        d = strtod(v, &end);
+    } else {
+        const long long n = strtoll(v, &end, 0);
+        d = (double)n;
+        if (errno == ERANGE) {
+            *why = "out of range";
+            return TV_ERR_RANGE;
+        }
+    }
+    if (end == v || *end != '\0') {
+        *why = k->type == K_DOUBLE ? "not a number" : "not an integer";
+        return TV_ERR_FORMAT;
+    }
+    if (errno == ERANGE || !(d == d) || d - d != 0.0) {
+        *why = "not a finite number";
+        return TV_ERR_RANGE;
+    }
+    if (d < k->min || d > k->max) {
+        *why = "out of range";
+        return TV_ERR_RANGE;
+    }
+    switch (k->type) {
+    case K_INT: {
+        const int32_t x = (int32_t)d;
+        memcpy(base, &x, sizeof x);
+        break;
+    }
+    case K_UINT: {
+        const uint32_t x = (uint32_t)d;
+        memcpy(base, &x, sizeof x);
+        break;
+    }
+    case K_U16: {
+        const uint16_t x = (uint16_t)d;
+        memcpy(base, &x, sizeof x);
+        break;
+    }
+    case K_U8: {
+        const uint8_t x = (uint8_t)d;
+        memcpy(base, &x, sizeof x);
+        break;
+    }
+    default: /* K_DOUBLE */
+        memcpy(base, &d, sizeof d);
+        break;
+    }
+    return TV_OK;
+}
+
+static int check_conflicts(const lx_config_t *cfg, const char *name, char *err, size_t err_len)
+{
+    int i;
+    int j;
+    static const char *const adc_keys[4] = {"adc.channel.current", "adc.channel.tps1", "adc.channel.tps2",
+                                            "adc.channel.supply"};
+    if (cfg->pwm_channel_a == cfg->pwm_channel_b) {
+        lx_err_set(err, err_len, "%s: pwm.channel_a and pwm.channel_b are both %u (the bridge needs two channels)", name,
+                (unsigned)cfg->pwm_channel_a);
+        return TV_ERR_CONFIG;
+    }
+    for (i = 0; i < 4; ++i) {
+        for (j = i + 1; j < 4; ++j) {
+            if (cfg->adc_channel[i] == cfg->adc_channel[j]) {
+                lx_err_set(err, err_len, "%s: %s and %s are both %u", name, adc_keys[i], adc_keys[j],
+                        (unsigned)cfg->adc_channel[i]);
+                return TV_ERR_CONFIG;
+            }
+        }
+    }
+    if (cfg->gpio_enable_line == cfg->gpio_fault_line) {
+        lx_err_set(err, err_len, "%s: gpio.bridge_enable.line and gpio.driver_fault.line are both %u", name,
+                (unsigned)cfg->gpio_enable_line);
+        return TV_ERR_CONFIG;
+    }
+    return TV_OK;
+}
+
+int lx_config_parse(const char *text, const char *name, lx_config_t *cfg, char *err, size_t err_len)
+{
+    unsigned char seen[N_KEYS];
+    const char *p;
+    unsigned line_no = 0u;
+    size_t i;
+    if (text == NULL || cfg == NULL) {
+        lx_err_set(err, err_len, "lx_config_parse: NULL argument");
+        return TV_ERR_NULL;
+    }
+    if (name == NULL) {
+        name = "config";
+    }
+    lx_err_set(err, err_len, "%s", "");
+    lx_config_default(cfg);
+    memset(seen, 0, sizeof seen);
+    p = text;
+    while (*p != '\0') {
+        char line[LINE_MAX_LEN];
+        const char *nl = strchr(p, '\n');
+        const size_t len = nl != NULL ? (size_t)(nl - p) : strlen(p);
+        char *key;
+        char *val;
+        char *eq;
+        char *hash;
+        const key_desc_t *k = NULL;
+        const char *why = NULL;
+        int rc;
+        ++line_no;
+        if (len >= sizeof line) {
+            lx_err_set(err, err_len, "%s:%u: line longer than %u characters", name, line_no, (unsigned)(sizeof line - 1u));
+            return TV_ERR_FORMAT;
+        }
+        memcpy(line, p, len);
+        line[len] = '\0';
+        p = nl != NULL ? nl + 1 : p + len;
+        hash = strchr(line, '#');
+        if (hash != NULL) {
+            *hash = '\0';
+        }
+        key = trim(line);
+        if (*key == '\0') {
+            continue;
+        }
+        eq = strchr(key, '=');
+        if (eq == NULL) {
+            lx_err_set(err, err_len, "%s:%u: '%s': expected 'key = value'", name, line_no, key);
+            return TV_ERR_FORMAT;
+        }
+        *eq = '\0';
+        val = trim(eq + 1);
+        key = trim(key);
+        if (val[0] == '"') {
+            const size_t vl = strlen(val);
+            if (vl < 2u || val[vl - 1u] != '"') {
+                lx_err_set(err, err_len, "%s:%u: %s = %s: unterminated quote", name, line_no, key, val);
+                return TV_ERR_FORMAT;
+            }
+            val[vl - 1u] = '\0';
+            ++val;
+        }
+        for (i = 0; i < N_KEYS; ++i) {
+            if (strcmp(key, s_keys[i].name) == 0) {
+                k = &s_keys[i];
+                break;
+            }
+        }
+        if (k == NULL) {
+            lx_err_set(err, err_len, "%s:%u: unknown key '%s'", name, line_no, key);
+            return TV_ERR_FORMAT;
+        }
+        if (seen[i]) {
+            lx_err_set(err, err_len, "%s:%u: key '%s' given twice", name, line_no, key);
+            return TV_ERR_FORMAT;
+        }
+        seen[i] = 1u;
+        rc = store(k, val, cfg, &why);
+        if (rc != TV_OK) {
+            if (rc == TV_ERR_RANGE && k->type != K_STR && k->type != K_BOOL && k->type != K_MODE) {
+                lx_err_set(err, err_len, "%s:%u: %s = '%s': %s [%g, %g]", name, line_no, key, val, why, k->min, k->max);
+            } else if (k->type == K_STR && rc == TV_ERR_RANGE) {
+                lx_err_set(err, err_len, "%s:%u: %s = '%s': %s (at most %u characters)", name, line_no, key, val, why,
+                        (unsigned)(k->size - 1u));
+            } else {
+                lx_err_set(err, err_len, "%s:%u: %s = '%s': %s", name, line_no, key, val, why);
+            }
+            return rc;
+        }
+    }
+    for (i = 0; i < N_KEYS; ++i) {
+        if (s_keys[i].required && !seen[i]) {
+            lx_err_set(err, err_len, "%s: missing required key '%s'", name, s_keys[i].name);
+            return TV_ERR_CONFIG;
+        }
+    }
+    return check_conflicts(cfg, name, err, err_len);
+}
+
+int lx_config_load(const char *path, lx_config_t *cfg, char *err, size_t err_len)
+{
+    static char buf[FILE_MAX_LEN + 1u];
+    FILE *f;
+    size_t n;
+    if (path == NULL || cfg == NULL) {
+        lx_err_set(err, err_len, "lx_config_load: NULL argument");
+        return TV_ERR_NULL;
+    }
+    f = fopen(path, "r");
+    if (f == NULL) {
+        lx_err_set(err, err_len, "%s: cannot open configuration file: %s", path, strerror(errno));
+        return TV_ERR_IO;
+    }
+    n = fread(buf, 1u, FILE_MAX_LEN + 1u, f);
+    if (ferror(f)) {
+        lx_err_set(err, err_len, "%s: read error: %s", path, strerror(errno));
+        (void)fclose(f);
+        return TV_ERR_IO;
+    }
+    (void)fclose(f);
+    if (n > FILE_MAX_LEN) {
+        lx_err_set(err, err_len, "%s: larger than %u bytes", path, (unsigned)FILE_MAX_LEN);
+        return TV_ERR_FORMAT;
+    }
+    if (memchr(buf, '\0', n) != NULL) {
+        lx_err_set(err, err_len, "%s: contains a NUL byte (not a text file)", path);
+        return TV_ERR_FORMAT;
+    }
+    buf[n] = '\0';
+    return lx_config_parse(buf, path, cfg, err, err_len);
+}
+
+void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
+{
+    if (cfg == NULL || app == NULL) {
+        return;
+    }
+    app->control.mode = (app_mode_t)cfg->app_mode;
+    app->control.amplitude_V = (tv_real_t)cfg->app_amplitude_V;
+    app->control.freq_Hz = (tv_real_t)cfg->app_freq_Hz;
+    app->control.chirp_f1_Hz = (tv_real_t)cfg->app_chirp_f1_Hz;
+    app->control.chirp_period_s = (tv_real_t)cfg->app_chirp_period_s;
+    app->control.target_rad = (tv_real_t)cfg->app_target_rad;
+    app->control.duty_limit = (tv_real_t)cfg->app_duty_limit;
+    app->calib.current_offset_counts = (tv_real_t)cfg->calib_current_offset_counts;
+    app->calib.current_A_per_count = (tv_real_t)cfg->calib_current_A_per_count;
+    app->calib.tps1_counts_at_zero = (tv_real_t)cfg->calib_tps1_counts_at_zero;
+    app->calib.tps1_rad_per_count = (tv_real_t)cfg->calib_tps1_rad_per_count;
+    app->calib.tps2_counts_at_zero = (tv_real_t)cfg->calib_tps2_counts_at_zero;
+    app->calib.tps2_rad_per_count = (tv_real_t)cfg->calib_tps2_rad_per_count;
+    app->calib.supply_V_per_count = (tv_real_t)cfg->calib_supply_V_per_count;
+    app->calib.adc_max_counts = (uint16_t)cfg->adc_max_counts;
+}

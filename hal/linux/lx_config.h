@@ -1,0 +1,112 @@
+/**
+ * @file lx_config.h
+ * @brief Configuration file of the Linux controller (throttle_linux): every device name and
+ *        path, real-time settings, CAN settings, the start-up control and the calibration.
+ *
+ * FORMAT. One "key = value" per line; '#' starts a comment (a value cannot contain '#');
+ * blank lines are ignored; whitespace around key and value is dropped; a value may be quoted
+ * with double quotes. Every key may appear once. Unknown keys, duplicates, malformed or
+ * out-of-range values and missing required keys are errors, reported as
+ *     <file>:<line>: <key> = '<value>': <reason>      or      <file>: missing required key '<key>'
+ * The keys, their types, ranges and defaults are in lx_config.c (table s_keys) and in the
+ * example hal/linux/throttle_linux.conf, which lists every key.
+ *
+ * This module only checks syntax and ranges; whether a path exists, a chip has that line or an
+ * interface is a CAN interface is checked when the devices are opened (lx_pwm, lx_adc, lx_gpio,
+ * lx_can), and those errors name the key and the value as well.
+ */
+#ifndef LX_CONFIG_H
+#define LX_CONFIG_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "can_proto.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Longest path or device name stored [bytes, with the terminating 0]. */
+#define LX_PATH_LEN 256u
+/** Longest CAN interface name [bytes, with the terminating 0] (IFNAMSIZ). */
+#define LX_IFNAME_LEN 16u
+/** Longest error message written by the lx_ modules [bytes]. */
+#define LX_ERR_LEN 512u
+
+/** Everything the configuration file sets. */
+typedef struct {
+    /* real time */
+    int32_t rt_priority;      /**< rt.priority: SCHED_FIFO priority 1..99; 0 = SCHED_OTHER (development only) */
+    int32_t rt_cpu;           /**< rt.cpu: CPU the loop thread is pinned to; -1 = not pinned */
+    int32_t rt_lock_memory;   /**< rt.lock_memory: 1 = mlockall(MCL_CURRENT | MCL_FUTURE) (required for RT) */
+    uint32_t rt_duration_s;   /**< rt.duration_s: stop cleanly after this long; 0 = until SIGINT/SIGTERM */
+    uint32_t rt_max_io_errors; /**< rt.max_io_errors: consecutive failed ticks that end the program */
+    /* PWM (sysfs PWM class) */
+    char pwm_chip[LX_PATH_LEN];   /**< pwm.chip: e.g. /sys/class/pwm/pwmchip0 */
+    uint32_t pwm_channel_a;       /**< pwm.channel_a: channel driving the bridge for duty > 0 */
+    uint32_t pwm_channel_b;       /**< pwm.channel_b: channel driving the bridge for duty < 0 */
+    uint32_t pwm_period_ns;       /**< pwm.period_ns: PWM period [ns] */
+    /* ADC (IIO) */
+    char adc_device[LX_PATH_LEN]; /**< adc.device: e.g. /sys/bus/iio/devices/iio:device0 */
+    uint32_t adc_channel[4];      /**< adc.channel.{current,tps1,tps2,supply}: N of in_voltageN_raw */
+    uint32_t adc_max_counts;      /**< adc.max_counts: largest valid raw value (4095 for 12 bits) */
+    /* GPIO (libgpiod) */
+    char gpio_chip[LX_PATH_LEN];  /**< gpio.chip: name, number, label or /dev path (gpiod_chip_open_lookup) */
+    char gpio_consumer[32];       /**< gpio.consumer: consumer label shown by gpioinfo */
+    uint32_t gpio_enable_line;    /**< gpio.bridge_enable.line: offset on the chip */
+    int32_t gpio_enable_active_low; /**< gpio.bridge_enable.active_low: 1 = low enables */
+    uint32_t gpio_fault_line;     /**< gpio.driver_fault.line: offset on the chip */
+    int32_t gpio_fault_active_low; /**< gpio.driver_fault.active_low: 1 = low means fault (nFAULT pins) */
+    /* CAN (SocketCAN) */
+    char can_interface[LX_IFNAME_LEN]; /**< can.interface: e.g. can0, vcan0 */
+    can_proto_config_t can;       /**< can.cmd_timeout_ms, can.max_counter_delta, can.period_ms.* */
+    /* start-up control (commands override it at run time) */
+    int32_t app_mode;             /**< app.mode: off, sine, steps, chirp, position (app_mode_t) */
+    double app_amplitude_V;       /**< app.amplitude_V */
+    double app_freq_Hz;           /**< app.freq_Hz */
+    double app_chirp_f1_Hz;       /**< app.chirp_f1_Hz */
+    double app_chirp_period_s;    /**< app.chirp_period_s */
+    double app_target_rad;        /**< app.target_rad */
+    double app_duty_limit;        /**< app.duty_limit */
+    /* calibration of the analogue front end (defaults: app_calib_default()) */
+    double calib_current_offset_counts; /**< calib.current_offset_counts */
+    double calib_current_A_per_count;   /**< calib.current_A_per_count */
+    double calib_tps1_counts_at_zero;   /**< calib.tps1_counts_at_zero */
+    double calib_tps1_rad_per_count;    /**< calib.tps1_rad_per_count */
+    double calib_tps2_counts_at_zero;   /**< calib.tps2_counts_at_zero */
+    double calib_tps2_rad_per_count;    /**< calib.tps2_rad_per_count */
+    double calib_supply_V_per_count;    /**< calib.supply_V_per_count */
+} lx_config_t;
+
+/** Fill *cfg with every default (required keys empty / zero). */
+void lx_config_default(lx_config_t *cfg);
+
+/**
+ * Parse configuration text (the contents of a file) into *cfg, on top of lx_config_default().
+ * @param text   NUL-terminated text
+ * @param name   name used in error messages (the file name)
+ * @param err    receives the error message (may be NULL), always NUL-terminated
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_FORMAT (syntax, unknown or duplicate key, line too long);
+ *         TV_ERR_RANGE (a value outside its range); TV_ERR_CONFIG (a required key missing, or
+ *         two keys in conflict, e.g. the same channel twice). On error *cfg is unspecified.
+ */
+int lx_config_parse(const char *text, const char *name, lx_config_t *cfg, char *err, size_t err_len);
+
+/**
+ * Read and parse a file (at most 64 KiB).
+ * @return as lx_config_parse(); TV_ERR_IO when the file cannot be read (message names it).
+ */
+int lx_config_load(const char *path, lx_config_t *cfg, char *err, size_t err_len);
+
+/**
+ * Apply the control and calibration keys to an application configuration (from
+ * app_config_default()); the application validates the result in app_init().
+ */
+void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LX_CONFIG_H */

@@ -1,0 +1,264 @@
+/**
+ * @file test_lx_config.c
+ * @brief Tests of the Linux controller's configuration parser (hal/linux/lx_config.h): the
+ *        example file parses to the documented defaults, and every kind of bad input is refused
+ *        with a message that names the key and the value (what an operator needs to fix it).
+ *
+ *   test_lx_config <path of hal/linux/throttle_linux.conf>
+ */
+#include <stdio.h>
+#include <string.h>
+
+#include "lx_config.h"
+#include "tv_status.h"
+#include "tv_test.h"
+
+static const char *s_example_path;
+
+/* The required keys with valid values; tests append or replace lines. */
+static const char s_minimal[] = "pwm.chip = /sys/class/pwm/pwmchip0\n"
+                                "pwm.channel_a = 0\n"
+                                "pwm.channel_b = 1\n"
+                                "adc.device = /sys/bus/iio/devices/iio:device0\n"
+                                "gpio.chip = gpiochip0\n"
+                                "gpio.bridge_enable.line = 4\n"
+                                "gpio.driver_fault.line = 5\n"
+                                "can.interface = can0\n";
+
+/* Parse minimal + extra; return the status, message in err. */
+static int parse_with(const char *extra, lx_config_t *cfg, char *err, size_t n)
+{
+    char text[4096];
+    (void)snprintf(text, sizeof text, "%s%s", s_minimal, extra);
+    return lx_config_parse(text, "t.conf", cfg, err, n);
+}
+
+/* status and every fragment of the message */
+static void expect_error(const char *extra, int status, const char *frag1, const char *frag2)
+{
+    static lx_config_t cfg;
+    char err[LX_ERR_LEN];
+    const int rc = parse_with(extra, &cfg, err, sizeof err);
+    TV_CHECK_EQ_INT(rc, status);
+    TV_CHECK(strstr(err, frag1) != NULL);
+    TV_CHECK(frag2 == NULL || strstr(err, frag2) != NULL);
+    if (rc != status || strstr(err, frag1) == NULL || (frag2 != NULL && strstr(err, frag2) == NULL)) {
+        fprintf(stderr, "  input %s -> '%s'\n", extra, err);
+    }
+}
+
+/* The example configuration lists every key; it parses, and its calibration is the
+ * application's default calibration (to the 10 significant digits written in the file). */
+static void test_example_file_parses_to_defaults(void)
+{
+    static lx_config_t cfg;
+    static lx_config_t def;
+    char err[LX_ERR_LEN];
+    TV_CHECK_EQ_INT(lx_config_load(s_example_path, &cfg, err, sizeof err), TV_OK);
+    if (err[0] != '\0') {
+        fprintf(stderr, "  %s\n", err);
+    }
+    lx_config_default(&def);
+    TV_CHECK(strcmp(cfg.pwm_chip, "/sys/class/pwm/pwmchip0") == 0);
+    TV_CHECK_EQ_INT(cfg.pwm_channel_b, 1);
+    TV_CHECK(strcmp(cfg.adc_device, "/sys/bus/iio/devices/iio:device0") == 0);
+    TV_CHECK(strcmp(cfg.gpio_chip, "gpiochip0") == 0);
+    TV_CHECK_EQ_INT(cfg.gpio_fault_active_low, 1);
+    TV_CHECK(strcmp(cfg.can_interface, "can0") == 0);
+    TV_CHECK_EQ_INT(cfg.rt_priority, def.rt_priority);
+    TV_CHECK_EQ_INT(cfg.pwm_period_ns, def.pwm_period_ns);
+    TV_CHECK_EQ_INT(cfg.can.cmd_timeout_ms, def.can.cmd_timeout_ms);
+    TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_LOOP], 100);
+    TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_TIME], 10);
+    TV_CHECK_EQ_INT(cfg.app_mode, APP_MODE_OFF);
+    TV_CHECK_NEAR(cfg.calib_current_offset_counts, def.calib_current_offset_counts, 1e-9);
+    TV_CHECK_NEAR(cfg.calib_current_A_per_count, def.calib_current_A_per_count, 1e-12);
+    TV_CHECK_NEAR(cfg.calib_tps1_counts_at_zero, def.calib_tps1_counts_at_zero, 1e-6);
+    TV_CHECK_NEAR(cfg.calib_tps1_rad_per_count, def.calib_tps1_rad_per_count, 1e-12);
+    TV_CHECK_NEAR(cfg.calib_tps2_counts_at_zero, def.calib_tps2_counts_at_zero, 1e-6);
+    TV_CHECK_NEAR(cfg.calib_tps2_rad_per_count, def.calib_tps2_rad_per_count, 1e-12);
+    TV_CHECK_NEAR(cfg.calib_supply_V_per_count, def.calib_supply_V_per_count, 1e-12);
+}
+
+/* Values of every type are stored where they belong; comments, blanks, quotes, hex. */
+static void test_values_stored(void)
+{
+    static lx_config_t cfg;
+    char err[LX_ERR_LEN];
+    app_config_t app;
+    const char extra[] = "# a comment\n"
+                         "\n"
+                         "   rt.priority = 0   # SCHED_OTHER\n"
+                         "rt.cpu=-1\n"
+                         "rt.lock_memory = no\n"
+                         "pwm.period_ns = 0x2710\n"
+                         "gpio.consumer = \"tv bench\"\n"
+                         "can.period_ms.meas = 0\n"
+                         "can.max_counter_delta = 1\n"
+                         "app.mode = position\n"
+                         "app.target_rad = -0.05\n"
+                         "calib.tps1_rad_per_count = 5e-4\r\n";
+    TV_CHECK_EQ_INT(parse_with(extra, &cfg, err, sizeof err), TV_OK);
+    TV_CHECK_EQ_INT(cfg.rt_priority, 0);
+    TV_CHECK_EQ_INT(cfg.rt_cpu, -1);
+    TV_CHECK_EQ_INT(cfg.rt_lock_memory, 0);
+    TV_CHECK_EQ_INT(cfg.pwm_period_ns, 10000);
+    TV_CHECK(strcmp(cfg.gpio_consumer, "tv bench") == 0);
+    TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_MEAS], 0);
+    TV_CHECK_EQ_INT(cfg.can.max_counter_delta, 1);
+    TV_CHECK_EQ_INT(cfg.app_mode, APP_MODE_POSITION);
+    app_config_default(&app);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK_EQ_INT(app.control.mode, APP_MODE_POSITION);
+    TV_CHECK_NEAR(app.control.target_rad, -0.05, 1e-6);
+    TV_CHECK_NEAR(app.calib.tps1_rad_per_count, 5e-4, 1e-9);
+}
+
+/* Syntax errors: the message names the file, the line and what is wrong. */
+static void test_syntax_errors_named(void)
+{
+    expect_error("bogus.key = 1\n", TV_ERR_FORMAT, "t.conf:9:", "unknown key 'bogus.key'");
+    expect_error("pwm.chip = /x\n", TV_ERR_FORMAT, "t.conf:9:", "key 'pwm.chip' given twice");
+    expect_error("rt.priority 80\n", TV_ERR_FORMAT, "t.conf:9:", "expected 'key = value'");
+    expect_error("gpio.consumer = \"open\n", TV_ERR_FORMAT, "gpio.consumer", "unterminated quote");
+    expect_error("gpio.consumer =\n", TV_ERR_FORMAT, "gpio.consumer = ''", "empty");
+    {
+        char long_line[1200];
+        memset(long_line, 'x', sizeof long_line - 2u);
+        long_line[sizeof long_line - 2u] = '\n';
+        long_line[sizeof long_line - 1u] = '\0';
+        expect_error(long_line, TV_ERR_FORMAT, "t.conf:9:", "line longer than");
+    }
+}
+
+/* Bad values: the message names the key and the value, and the range where there is one. */
+static void test_bad_values_named(void)
+{
+    expect_error("rt.priority = 100\n", TV_ERR_RANGE, "rt.priority = '100'", "out of range [0, 99]");
+    expect_error("rt.priority = high\n", TV_ERR_FORMAT, "rt.priority = 'high'", "not an integer");
+    expect_error("rt.priority = 8.5\n", TV_ERR_FORMAT, "rt.priority = '8.5'", "not an integer");
+    expect_error("rt.cpu = -2\n", TV_ERR_RANGE, "rt.cpu = '-2'", "out of range");
+    expect_error("rt.lock_memory = maybe\n", TV_ERR_FORMAT, "rt.lock_memory = 'maybe'", "not a boolean");
+    expect_error("rt.max_io_errors = 0\n", TV_ERR_RANGE, "rt.max_io_errors = '0'", "[1, 1000]");
+    expect_error("pwm.period_ns = 999\n", TV_ERR_RANGE, "pwm.period_ns = '999'", "out of range");
+    expect_error("pwm.period_ns = 99999999999999999999999\n", TV_ERR_RANGE, "pwm.period_ns", "out of range");
+    expect_error("adc.channel.tps1 = -1\n", TV_ERR_RANGE, "adc.channel.tps1 = '-1'", "out of range");
+    expect_error("adc.max_counts = 65536\n", TV_ERR_RANGE, "adc.max_counts = '65536'", "out of range");
+    expect_error("can.cmd_timeout_ms = 60001\n", TV_ERR_RANGE, "can.cmd_timeout_ms = '60001'", "out of range");
+    expect_error("can.max_counter_delta = 15\n", TV_ERR_RANGE, "can.max_counter_delta = '15'", "[1, 14]");
+    expect_error("can.period_ms.status = 70000\n", TV_ERR_RANGE, "can.period_ms.status = '70000'", NULL);
+    expect_error("app.mode = fast\n", TV_ERR_FORMAT, "app.mode = 'fast'", "off, sine, steps, chirp, position");
+    expect_error("app.amplitude_V = nan\n", TV_ERR_RANGE, "app.amplitude_V = 'nan'", "not a finite number");
+    expect_error("app.amplitude_V = inf\n", TV_ERR_RANGE, "app.amplitude_V = 'inf'", "not a finite number");
+    expect_error("app.amplitude_V = 25\n", TV_ERR_RANGE, "app.amplitude_V = '25'", "[0, 24]");
+    expect_error("app.freq_Hz = 5Hz\n", TV_ERR_FORMAT, "app.freq_Hz = '5Hz'", "not a number");
+    expect_error("app.duty_limit = 0\n", TV_ERR_RANGE, "app.duty_limit = '0'", "out of range");
+    expect_error("calib.tps2_rad_per_count = 0.0004\n", TV_ERR_RANGE, "calib.tps2_rad_per_count", "out of range");
+    {
+        char line[400];
+        char path[300];
+        memset(path, 'a', sizeof path - 1u);
+        path[sizeof path - 1u] = '\0';
+        (void)snprintf(line, sizeof line, "adc.device = %s\n", path);
+        /* replaces nothing: a second adc.device is a duplicate; test the length on its own */
+        {
+            char text[1000];
+            static lx_config_t cfg;
+            char err[LX_ERR_LEN];
+            (void)snprintf(text, sizeof text, "%s", line);
+            TV_CHECK_EQ_INT(lx_config_parse(text, "t.conf", &cfg, err, sizeof err), TV_ERR_RANGE);
+            TV_CHECK(strstr(err, "adc.device") != NULL && strstr(err, "too long") != NULL);
+        }
+    }
+    expect_error("", TV_OK, "", NULL);
+}
+
+/* Each required key, left out, is named. */
+static void test_missing_required_keys_named(void)
+{
+    static const char *const req[] = {"pwm.chip", "pwm.channel_a", "pwm.channel_b", "adc.device",
+                                      "gpio.chip", "gpio.bridge_enable.line", "gpio.driver_fault.line",
+                                      "can.interface"};
+    size_t i;
+    for (i = 0; i < sizeof req / sizeof req[0]; ++i) {
+        char text[2048];
+        char want[128];
+        char err[LX_ERR_LEN];
+        static lx_config_t cfg;
+        const char *src = s_minimal;
+        char *out = text;
+        /* copy the minimal text without the line of this key */
+        while (*src != '\0') {
+            const char *nl = strchr(src, '\n');
+            const size_t len = (size_t)(nl - src) + 1u;
+            if (strncmp(src, req[i], strlen(req[i])) != 0 || src[strlen(req[i])] != ' ') {
+                memcpy(out, src, len);
+                out += len;
+            }
+            src += len;
+        }
+        *out = '\0';
+        (void)snprintf(want, sizeof want, "missing required key '%s'", req[i]);
+        TV_CHECK_EQ_INT(lx_config_parse(text, "t.conf", &cfg, err, sizeof err), TV_ERR_CONFIG);
+        TV_CHECK(strstr(err, want) != NULL);
+    }
+}
+
+/* Keys that contradict each other are named together. */
+static void test_conflicts_named(void)
+{
+    static lx_config_t cfg;
+    char err[LX_ERR_LEN];
+    char text[2048];
+    (void)snprintf(text, sizeof text, "%s", s_minimal);
+    {
+        char *p = strstr(text, "pwm.channel_b = 1");
+        p[16] = '0';
+    }
+    TV_CHECK_EQ_INT(lx_config_parse(text, "t.conf", &cfg, err, sizeof err), TV_ERR_CONFIG);
+    TV_CHECK(strstr(err, "pwm.channel_a and pwm.channel_b are both 0") != NULL);
+    expect_error("adc.channel.supply = 1\n", TV_ERR_CONFIG, "adc.channel.tps1 and adc.channel.supply are both 1",
+                 NULL);
+    (void)snprintf(text, sizeof text, "%s", s_minimal);
+    {
+        char *p = strstr(text, "gpio.driver_fault.line = 5");
+        p[25] = '4';
+    }
+    TV_CHECK_EQ_INT(lx_config_parse(text, "t.conf", &cfg, err, sizeof err), TV_ERR_CONFIG);
+    TV_CHECK(strstr(err, "gpio.bridge_enable.line and gpio.driver_fault.line are both 4") != NULL);
+}
+
+/* A file that cannot be read, or is not text, is named. */
+static void test_file_errors_named(void)
+{
+    static lx_config_t cfg;
+    char err[LX_ERR_LEN];
+    char path[] = "/tmp/test_lx_config_XXXXXX";
+    FILE *f;
+    TV_CHECK_EQ_INT(lx_config_load("/nonexistent/throttle.conf", &cfg, err, sizeof err), TV_ERR_IO);
+    TV_CHECK(strstr(err, "/nonexistent/throttle.conf: cannot open") != NULL);
+    TV_CHECK_EQ_INT(lx_config_parse(NULL, "x", &cfg, err, sizeof err), TV_ERR_NULL);
+    f = fopen(path, "wb");
+    TV_CHECK(f != NULL);
+    if (f != NULL) {
+        static const char bin[] = "pwm.chip = a\0b\n";
+        (void)fwrite(bin, 1u, sizeof bin, f);
+        (void)fclose(f);
+        TV_CHECK_EQ_INT(lx_config_load(path, &cfg, err, sizeof err), TV_ERR_FORMAT);
+        TV_CHECK(strstr(err, "NUL byte") != NULL);
+        (void)remove(path);
+    }
+}
+
+int main(int argc, char **argv)
+{
+    s_example_path = argc > 1 ? argv[1] : "hal/linux/throttle_linux.conf";
+    TV_TEST_RUN(test_example_file_parses_to_defaults);
+    TV_TEST_RUN(test_values_stored);
+    TV_TEST_RUN(test_syntax_errors_named);
+    TV_TEST_RUN(test_bad_values_named);
+    TV_TEST_RUN(test_missing_required_keys_named);
+    TV_TEST_RUN(test_conflicts_named);
+    TV_TEST_RUN(test_file_errors_named);
+    return tv_test_summary();
+}
