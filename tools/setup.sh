@@ -9,6 +9,7 @@ PKGS=(
   python3-numpy python3-matplotlib       # tools/: plots and log conversion
   valgrind                               # callgrind instruction counts (benchmarks)
   gcc-arm-none-eabi libnewlib-arm-none-eabi  # Cortex-M4F cross build
+  qemu-system-arm                        # Cortex-M4F in emulation: host-vs-QEMU ctest, ECU boot, CPU budget
   clang libclang-rt-14-dev               # libFuzzer targets, sanitizer runtime
   cppcheck clang-tidy                    # static analysis in the test command
   libgpiod-dev                           # Linux controller: GPIO through libgpiod 1.6 (static lib for the VM test)

@@ -1,0 +1,220 @@
+/**
+ * @file qemu_bench.c
+ * @brief Instruction-count benchmark of the application step and of the EKF step on the
+ *        Cortex-M4F build, in QEMU mps2-an386 (tools/m4f/bench_qemu.sh drives it).
+ *
+ *   qemu_bench gen OUT STEPS   write the scenario of tvlog_gen.h (plant in closed loop) to OUT;
+ *                              run WITHOUT instruction logging (the plant is not measured)
+ *   qemu_bench run IN          replay IN; each app_step() is bracketed by marker functions,
+ *                              then the same filter step (ekf_predict, ekf_correct on a copy of
+ *                              the filter as it was before the step) is bracketed again; run
+ *                              with QEMU's "-d in_asm,exec,nochain" log, from which
+ *                              tools/m4f/count_insns.py counts the instructions executed
+ *                              between each pair of markers outside this file's main()
+ *
+ * Markers: bench_app_<category>() before an application step (its category: the mode, or
+ * "safe" with latched faults, or "gap" when samples were lost before it), bench_pred() /
+ * bench_corr() before ekf_predict / ekf_correct, bench_end() after each. Distinct bodies keep
+ * the compiler from merging them (identical-code folding would give them one address).
+ */
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "app.h"
+#include "ekf.h"
+#include "semihost.h"
+#include "startup.h"
+#include "tvlog.h"
+#include "tvlog_gen.h"
+
+#define MAX_RECORDS 8000u
+
+static tvlog_gen_t s_gen;
+static app_t s_app;
+static ekf_t s_shadow;
+static uint8_t s_in[MAX_RECORDS * TVLOG_IN_BYTES];
+static char s_cmdline[512];
+
+/** Written by the markers (volatile: each marker is a real store at a distinct address). */
+volatile uint32_t g_bench_mark;
+
+#define MARKER(name, value)                                                                        \
+    __attribute__((noinline)) void name(void);                                                     \
+    __attribute__((noinline)) void name(void) { g_bench_mark = (value); }
+MARKER(bench_app_off, 0x10u)
+MARKER(bench_app_sine, 0x11u)
+MARKER(bench_app_steps, 0x12u)
+MARKER(bench_app_chirp, 0x13u)
+MARKER(bench_app_position, 0x14u)
+MARKER(bench_app_safe, 0x15u)
+MARKER(bench_app_gap, 0x16u)
+MARKER(bench_pred, 0x20u)
+MARKER(bench_corr, 0x21u)
+MARKER(bench_end, 0x30u)
+
+void startup_fault_hook(uint32_t exception_number)
+{
+    sh_puts("qemu_bench: fault, exception ");
+    sh_put_u32(exception_number);
+    sh_puts("\n");
+    sh_exit(3);
+}
+
+static void fail(const char *what)
+{
+    sh_puts("qemu_bench: ");
+    sh_puts(what);
+    sh_puts("\n");
+    sh_exit(2);
+}
+
+static uint32_t split_words(char *s, char **words, uint32_t max)
+{
+    uint32_t n = 0u;
+    while (*s != '\0' && n < max) {
+        while (*s == ' ') {
+            *s++ = '\0';
+        }
+        if (*s == '\0') {
+            break;
+        }
+        words[n++] = s;
+        while (*s != '\0' && *s != ' ') {
+            ++s;
+        }
+    }
+    return n;
+}
+
+static uint32_t parse_u32(const char *s)
+{
+    uint32_t v = 0u;
+    while (*s >= '0' && *s <= '9') {
+        v = 10u * v + (uint32_t)(*s++ - '0');
+    }
+    return v;
+}
+
+static int gen(const char *path, uint32_t steps)
+{
+    uint8_t hdr[TVLOG_HEADER_BYTES];
+    uint32_t written = 0u;
+    tvlog_in_t r;
+    int rc;
+    const int32_t fd = sh_open(path, SH_MODE_WB);
+    if (fd < 0 || tvlog_gen_init(&s_gen, steps, 20240501u) != 0) {
+        fail("gen: cannot open the output or initialise");
+    }
+    /* The record count goes in the header, known only at the end: collect, then write. */
+    while ((rc = tvlog_gen_next(&s_gen, &r)) >= 0) {
+        if (rc == 1) {
+            if (written >= MAX_RECORDS) {
+                fail("gen: too many steps");
+            }
+            tvlog_in_encode(&s_in[written * TVLOG_IN_BYTES], &r);
+            ++written;
+        }
+    }
+    if (rc != -1) {
+        fail("gen: plant failed");
+    }
+    tvlog_header_encode(hdr, TVLOG_MAGIC_IN, written, TVLOG_IN_BYTES);
+    if (sh_write(fd, hdr, sizeof hdr) != 0 || sh_write(fd, s_in, written * TVLOG_IN_BYTES) != 0) {
+        fail("gen: write failed");
+    }
+    (void)sh_close(fd);
+    sh_puts("qemu_bench: generated ");
+    sh_put_u32(written);
+    sh_puts(" records\n");
+    return 0;
+}
+
+static int run(const char *path)
+{
+    uint8_t hdr[TVLOG_HEADER_BYTES];
+    uint32_t n = 0u;
+    uint32_t k;
+    uint64_t last_t = 0u;
+    const int32_t fd = sh_open(path, SH_MODE_RB);
+    if (fd < 0 || sh_read(fd, hdr, sizeof hdr) != (int32_t)sizeof hdr ||
+        tvlog_header_decode(hdr, TVLOG_MAGIC_IN, TVLOG_IN_BYTES, &n) != 0 || n > MAX_RECORDS ||
+        sh_read(fd, s_in, n * TVLOG_IN_BYTES) != (int32_t)(n * TVLOG_IN_BYTES)) {
+        fail("run: cannot read the input");
+    }
+    (void)sh_close(fd);
+    if (tvlog_replay_init(&s_app) != 0) {
+        fail("run: app_init failed");
+    }
+    for (k = 0u; k < n; ++k) {
+        tvlog_in_t rec;
+        app_input_t in;
+        app_output_t out;
+        tv_real_t u;
+        tvlog_in_decode(&s_in[k * TVLOG_IN_BYTES], &rec);
+        tvlog_apply_cmd(&s_app, &rec);
+        memcpy(in.adc, rec.adc, sizeof in.adc);
+        in.t_us = rec.t_us;
+        in.driver_fault = rec.driver_fault;
+        s_shadow = s_app.ekf;
+        u = s_app.u_applied_V;
+
+        if (k > 0u && rec.t_us - last_t > 1500u) {
+            bench_app_gap();
+        } else if (s_app.faults != 0u) {
+            bench_app_safe();
+        } else {
+            switch (s_app.cfg.control.mode) {
+            case APP_MODE_SINE: bench_app_sine(); break;
+            case APP_MODE_STEPS: bench_app_steps(); break;
+            case APP_MODE_CHIRP: bench_app_chirp(); break;
+            case APP_MODE_POSITION: bench_app_position(); break;
+            case APP_MODE_OFF:
+            default: bench_app_off(); break;
+            }
+        }
+        app_step(&s_app, &in, &out);
+        bench_end();
+        last_t = rec.t_us;
+
+        /* The filter step the application just did, again on the copy: one prediction and one
+         * correction (steps after a gap predict several times: not an EKF step). */
+        if (out.missing_samples == 0u && out.innov.n_used > 0u) {
+            ekf_meas_t meas;
+            ekf_innov_t innov;
+            memcpy(meas.z, out.z, sizeof meas.z);
+            bench_pred();
+            (void)ekf_predict(&s_shadow, u);
+            bench_end();
+            bench_corr();
+            (void)ekf_correct(&s_shadow, &meas, &innov);
+            bench_end();
+        }
+    }
+    sh_puts("qemu_bench: ");
+    sh_put_u32(n);
+    sh_puts(" steps replayed; stack high-water ");
+    sh_put_u32(startup_stack_high_water_bytes());
+    sh_puts(" of ");
+    sh_put_u32(startup_stack_size_bytes());
+    sh_puts(" bytes\n");
+    return 0;
+}
+
+int main(void)
+{
+    char *argv[4];
+    uint32_t argc;
+    if (sh_get_cmdline(s_cmdline, sizeof s_cmdline) != 0) {
+        fail("no command line");
+    }
+    argc = split_words(s_cmdline, argv, 4u);
+    if (argc == 4u && strcmp(argv[1], "gen") == 0) {
+        sh_exit(gen(argv[2], parse_u32(argv[3])));
+    }
+    if (argc == 3u && strcmp(argv[1], "run") == 0) {
+        sh_exit(run(argv[2]));
+    }
+    fail("usage: qemu_bench gen OUT STEPS | run IN");
+    return 2;
+}
