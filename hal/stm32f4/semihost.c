@@ -118,6 +118,27 @@ int32_t sh_get_cmdline(char *buf, uint32_t len)
     return sh_call(SYS_GET_CMDLINE, args) == 0 ? 0 : -1;
 }
 
+uint32_t sh_split_words(char *s, char **words, uint32_t max)
+{
+    uint32_t n = 0u;
+    if (s == NULL || words == NULL) {
+        return 0u;
+    }
+    while (*s != '\0' && n < max) {
+        while (*s == ' ') {
+            *s++ = '\0';
+        }
+        if (*s == '\0') {
+            break;
+        }
+        words[n++] = s;
+        while (*s != '\0' && *s != ' ') {
+            ++s;
+        }
+    }
+    return n;
+}
+
 void sh_exit(int32_t status)
 {
     if (status == 0) {

@@ -48,6 +48,12 @@ int32_t sh_write(int32_t fd, const void *buf, uint32_t len);
  */
 int32_t sh_get_cmdline(char *buf, uint32_t len);
 
+/**
+ * Split a command line in place at spaces (they become NULs) into at most max words.
+ * @return the number of words written to words[].
+ */
+uint32_t sh_split_words(char *s, char **words, uint32_t max);
+
 /** End the session with an exit status (0 = success). Does not return. */
 void sh_exit(int32_t status) __attribute__((noreturn));
 

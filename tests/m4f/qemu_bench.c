@@ -69,24 +69,6 @@ static void fail(const char *what)
     sh_exit(2);
 }
 
-static uint32_t split_words(char *s, char **words, uint32_t max)
-{
-    uint32_t n = 0u;
-    while (*s != '\0' && n < max) {
-        while (*s == ' ') {
-            *s++ = '\0';
-        }
-        if (*s == '\0') {
-            break;
-        }
-        words[n++] = s;
-        while (*s != '\0' && *s != ' ') {
-            ++s;
-        }
-    }
-    return n;
-}
-
 static uint32_t parse_u32(const char *s)
 {
     uint32_t v = 0u;
@@ -208,7 +190,7 @@ int main(void)
     if (sh_get_cmdline(s_cmdline, sizeof s_cmdline) != 0) {
         fail("no command line");
     }
-    argc = split_words(s_cmdline, argv, 4u);
+    argc = sh_split_words(s_cmdline, argv, 4u);
     if (argc == 4u && strcmp(argv[1], "gen") == 0) {
         sh_exit(gen(argv[2], parse_u32(argv[3])));
     }

@@ -33,25 +33,6 @@ void startup_fault_hook(uint32_t exception_number)
     sh_exit(3);
 }
 
-/* Split the command line in place at spaces; returns the number of words (<= max). */
-static uint32_t split_words(char *s, char **words, uint32_t max)
-{
-    uint32_t n = 0u;
-    while (*s != '\0' && n < max) {
-        while (*s == ' ') {
-            *s++ = '\0';
-        }
-        if (*s == '\0') {
-            break;
-        }
-        words[n++] = s;
-        while (*s != '\0' && *s != ' ') {
-            ++s;
-        }
-    }
-    return n;
-}
-
 static void fail(const char *what)
 {
     sh_puts("qemu_replay: ");
@@ -70,7 +51,7 @@ int main(void)
     int32_t fout;
     app_output_t out;
 
-    if (sh_get_cmdline(s_cmdline, sizeof s_cmdline) != 0 || split_words(s_cmdline, argv, 4u) != 3u) {
+    if (sh_get_cmdline(s_cmdline, sizeof s_cmdline) != 0 || sh_split_words(s_cmdline, argv, 4u) != 3u) {
         fail("usage: qemu_replay IN OUT");
     }
     fin = sh_open(argv[1], SH_MODE_RB);
