@@ -10,8 +10,6 @@
 #include "tv_status.h"
 
 #define APP_PI TV_R(3.14159265358979)
-/** Largest gap predicted across, in periods; beyond it the estimate is not trusted. */
-#define APP_MAX_GAP_PERIODS 100u
 
 /* Index of each plausibility check's debounce counter. */
 enum { CHK_CURRENT = 0, CHK_TPS1, CHK_TPS2, CHK_DISAGREE, CHK_SUPPLY, CHK_N };
@@ -58,6 +56,7 @@ void app_config_default(app_config_t *cfg)
     cfg->limits.supply_min_V = TV_R(8.0);
     cfg->limits.supply_max_V = TV_R(18.0);
     cfg->limits.debounce_trip = 5u;
+    cfg->limits.max_gap_periods = (uint16_t)APP_MAX_GAP_PERIODS;
     cfg->control.mode = APP_MODE_SINE;
     cfg->control.amplitude_V = TV_R(12.0);
     cfg->control.freq_Hz = TV_R(5.0);
@@ -124,7 +123,8 @@ int app_init(app_t *app, const app_config_t *cfg)
             cfg->limits.current_max_counts > c->adc_max_counts || cfg->limits.tps_max_counts > c->adc_max_counts ||
             !(cfg->limits.tps_disagree_max_rad > TV_R(0.0)) ||
             !(cfg->limits.supply_max_V > cfg->limits.supply_min_V) || cfg->limits.supply_min_V <= TV_R(0.0) ||
-            cfg->limits.debounce_trip == 0u) {
+            cfg->limits.debounce_trip == 0u || cfg->limits.max_gap_periods == 0u ||
+            cfg->limits.max_gap_periods > APP_MAX_GAP_PERIODS) {
             return TV_ERR_CONFIG;
         }
     }
@@ -306,9 +306,9 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     } else {
         const uint64_t dt = in->t_us - app->last_t_us;
         const uint64_t n = (dt + APP_PERIOD_US / 2u) / APP_PERIOD_US;
-        if (n == 0u || n > APP_MAX_GAP_PERIODS) {
+        if (n == 0u || n > lim->max_gap_periods) {
             app->faults |= APP_FAULT_TIMING;
-            periods = n == 0u ? 0u : APP_MAX_GAP_PERIODS;
+            periods = n == 0u ? 0u : lim->max_gap_periods;
         } else {
             periods = (uint32_t)n;
         }

@@ -28,6 +28,8 @@ extern "C" {
 
 /** Application period [us]. */
 #define APP_PERIOD_US 1000u
+/** Upper bound of app_limits_t::max_gap_periods. */
+#define APP_MAX_GAP_PERIODS 100u
 
 /** Operating modes. */
 typedef enum {
@@ -83,6 +85,14 @@ typedef struct {
     tv_real_t tps_disagree_max_rad;                  /**< |phi1 - phi2| above this fails */
     tv_real_t supply_min_V, supply_max_V;            /**< supply window [V] */
     uint16_t debounce_trip;  /**< consecutive failing samples that trip a fault (>= 1) */
+    /**
+     * Largest gap predicted across in one step, in periods (1..APP_MAX_GAP_PERIODS). A step
+     * predicts once per elapsed period, so this bounds its worst-case time: (1 + missing)
+     * predictions. Longer gaps, or time going backwards, latch APP_FAULT_TIMING and predict
+     * only this many periods. Default APP_MAX_GAP_PERIODS (replay of bench logs); a real-time
+     * target sets what its budget allows (the ECU: 4, about 12,600 instructions).
+     */
+    uint16_t max_gap_periods;
 } app_limits_t;
 
 /** Open-loop excitation and closed-loop control parameters. */
@@ -168,8 +178,8 @@ int app_init(app_t *app, const app_config_t *cfg);
 
 /**
  * One 1 ms step. Never fails: bad inputs become faults and the safe state, and are reported in
- * *out. A gap in t_us (missing samples) is predicted across, up to 100 periods; a larger gap or
- * time going backwards sets APP_FAULT_TIMING.
+ * *out. A gap in t_us (missing samples) is predicted across, up to limits.max_gap_periods
+ * periods; a larger gap or time going backwards sets APP_FAULT_TIMING.
  */
 void app_step(app_t *app, const app_input_t *in, app_output_t *out);
 

@@ -20,7 +20,7 @@ enum {
     K_QU, K_QT, K_R_CURRENT, K_R_VELOCITY, K_R_ANGLE,
     K_CAL_CUR_OFF, K_CAL_CUR_GAIN, K_CAL_TPS1_ZERO, K_CAL_TPS1_GAIN, K_CAL_TPS2_ZERO, K_CAL_TPS2_GAIN, K_CAL_SUPPLY,
     K_LIM_CUR_MIN, K_LIM_CUR_MAX, K_LIM_TPS_MIN, K_LIM_TPS_MAX, K_LIM_DISAGREE, K_LIM_SUP_MIN, K_LIM_SUP_MAX,
-    K_LIM_DEBOUNCE,
+    K_LIM_DEBOUNCE, K_LIM_MAX_GAP,
     K_COUNT
 };
 
@@ -78,6 +78,7 @@ static const params_key_t s_keys[K_COUNT] = {
     {"limits.supply_min_V", 0.0, 1e3, LO_OPEN},
     {"limits.supply_max_V", 0.0, 1e3, LO_OPEN},
     {"limits.debounce_trip", 1.0, 65535.0, INTEGER},
+    {"limits.max_gap_periods", 1.0, (double)APP_MAX_GAP_PERIODS, INTEGER},
 };
 
 static void msg(char *err, size_t cap, const char *fmt, ...)
@@ -434,6 +435,7 @@ static uint16_t *u16_field(app_config_t *c, int k)
     case K_LIM_TPS_MIN: return &c->limits.tps_min_counts;
     case K_LIM_TPS_MAX: return &c->limits.tps_max_counts;
     case K_LIM_DEBOUNCE: return &c->limits.debounce_trip;
+    case K_LIM_MAX_GAP: return &c->limits.max_gap_periods;
     default: return NULL;
     }
 }

@@ -1,0 +1,77 @@
+/**
+ * @file test_app.c
+ * @brief Application step: gaps are predicted across one period at a time up to
+ *        limits.max_gap_periods (which bounds the step's worst-case time), beyond it the timing
+ *        fault latches; the limit is validated.
+ */
+#include <string.h>
+
+#include "app.h"
+#include "tv_status.h"
+#include "tv_test.h"
+
+/* A plausible sample at time t: mid-scale current, tracks at limp-home, 13.5 V supply. */
+static app_input_t sample_at(const app_t *app, uint64_t t_us)
+{
+    app_input_t in;
+    memset(&in, 0, sizeof in);
+    in.adc[0] = (uint16_t)(app->cfg.calib.current_offset_counts + TV_R(0.5));
+    in.adc[1] = (uint16_t)(app->cfg.calib.tps1_counts_at_zero + TV_R(0.5));
+    in.adc[2] = (uint16_t)(app->cfg.calib.tps2_counts_at_zero + TV_R(0.5));
+    in.adc[3] = 2793u; /* 13.5 V through 1/6 on a 3.3 V, 12-bit ADC */
+    in.t_us = t_us;
+    return in;
+}
+
+static void test_gap_is_predicted_across_one_period_at_a_time(void)
+{
+    app_config_t cfg;
+    app_t app;
+    app_output_t out;
+    app_input_t in;
+    uint32_t before;
+    app_config_default(&cfg);
+    cfg.control.mode = APP_MODE_OFF;
+    cfg.limits.max_gap_periods = 4u;
+    TV_CHECK_EQ_INT(app_init(&app, &cfg), TV_OK);
+    in = sample_at(&app, 1000u);
+    app_step(&app, &in, &out);
+    in = sample_at(&app, 2000u);
+    app_step(&app, &in, &out);
+    TV_CHECK_EQ_INT(out.missing_samples, 0);
+    /* 3 missing samples: 4 periods elapsed, 4 predictions, no fault (within the bound). */
+    before = app.ekf.n_predict;
+    in = sample_at(&app, 6000u);
+    app_step(&app, &in, &out);
+    TV_CHECK_EQ_INT(out.missing_samples, 3);
+    TV_CHECK_EQ_INT(app.ekf.n_predict - before, 4);
+    TV_CHECK_EQ_INT(out.faults & APP_FAULT_TIMING, 0);
+    /* 5 periods elapsed > 4: the timing fault latches and only 4 predictions run, so the
+     * step's time stays bounded. */
+    before = app.ekf.n_predict;
+    in = sample_at(&app, 11000u);
+    app_step(&app, &in, &out);
+    TV_CHECK_EQ_INT(app.ekf.n_predict - before, 4);
+    TV_CHECK(out.faults & APP_FAULT_TIMING);
+}
+
+static void test_gap_limit_is_validated(void)
+{
+    app_config_t cfg;
+    app_t app;
+    app_config_default(&cfg);
+    TV_CHECK_EQ_INT(cfg.limits.max_gap_periods, APP_MAX_GAP_PERIODS);
+    cfg.limits.max_gap_periods = 0u;
+    TV_CHECK_EQ_INT(app_init(&app, &cfg), TV_ERR_CONFIG);
+    cfg.limits.max_gap_periods = (uint16_t)(APP_MAX_GAP_PERIODS + 1u);
+    TV_CHECK_EQ_INT(app_init(&app, &cfg), TV_ERR_CONFIG);
+    cfg.limits.max_gap_periods = 1u;
+    TV_CHECK_EQ_INT(app_init(&app, &cfg), TV_OK);
+}
+
+int main(void)
+{
+    TV_TEST_RUN(test_gap_is_predicted_across_one_period_at_a_time);
+    TV_TEST_RUN(test_gap_limit_is_validated);
+    return tv_test_summary();
+}
