@@ -40,6 +40,16 @@ cmake --build build/m4f --target estimator_size | grep -v '^\[' || true
 cmake --build build/m4f --target firmware_report | grep -v '^\['
 
 step "5/5 static analysis"
+# clang-tidy once per file set: print its findings, fail on its exit status (.clang-tidy makes
+# every warning an error).
+run_tidy() {
+  local out rc=0
+  out=$(mktemp)
+  clang-tidy --quiet "$@" >"$out" 2>&1 || rc=$?
+  grep -v 'warnings generated' "$out" || true
+  rm -f "$out"
+  return "$rc"
+}
 mapfile -t srcs < <(git ls-files 'firmware/*.c' 'hal/*.c' 'host_sim/*.c' 2>/dev/null || true)
 if ((${#srcs[@]} == 0)); then mapfile -t srcs < <(ls firmware/*.c hal/*.c host_sim/*.c 2>/dev/null); fi
 # hal/stm32f4 is Cortex-M code (inline assembly, core registers): analysed below for its own
@@ -48,15 +58,13 @@ mapfile -t srcs < <(printf '%s\n' "${srcs[@]}" | grep -v '^hal/stm32f4/')
 mapfile -t m4f_srcs < <(ls hal/stm32f4/*.c 2>/dev/null || true)
 cppcheck --std=c99 --enable=warning,style,performance,portability --error-exitcode=1 --inline-suppr \
   --quiet -Ifirmware -Ihal -Ihost_sim "${srcs[@]}"
-clang-tidy --quiet "${srcs[@]}" -- -std=c99 -Ifirmware -Ihal -Ihost_sim 2>&1 | grep -v 'warnings generated' || true
-clang-tidy --quiet "${srcs[@]}" -- -std=c99 -Ifirmware -Ihal -Ihost_sim >/dev/null 2>&1
+run_tidy "${srcs[@]}" -- -std=c99 -Ifirmware -Ihal -Ihost_sim
 if ((${#m4f_srcs[@]})); then
   m4f_flags=(-std=c99 --target=arm-none-eabi -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16
     -Ifirmware -Ihal -Ihal/stm32f4 -isystem /usr/lib/arm-none-eabi/include)
   cppcheck --std=c99 --enable=warning,style,performance,portability --error-exitcode=1 --inline-suppr \
     --quiet -Ifirmware -Ihal -Ihal/stm32f4 "${m4f_srcs[@]}"
-  clang-tidy --quiet "${m4f_srcs[@]}" -- "${m4f_flags[@]}" 2>&1 | grep -v 'warnings generated' || true
-  clang-tidy --quiet "${m4f_srcs[@]}" -- "${m4f_flags[@]}" >/dev/null 2>&1
+  run_tidy "${m4f_srcs[@]}" -- "${m4f_flags[@]}"
 fi
 echo "cppcheck and clang-tidy: clean ($((${#srcs[@]} + ${#m4f_srcs[@]})) files)"
 
