@@ -396,21 +396,30 @@ int can_proto_encode_excitation(const can_proto_excitation_t *cmd, uint8_t count
     return can_proto_pack(&s_msgs[1], phys, counter, 0, frame);
 }
 
-int can_proto_decode_control(const hal_can_frame_t *frame, can_proto_control_t *cmd)
+/* Validate a command frame of table entry k (id, CRC, counter field) and unpack its signals. */
+static int unpack_command(const hal_can_frame_t *frame, size_t k, float *phys)
 {
-    float phys[CAN_PROTO_MAX_SIGNALS] = {0.0f};
     int rc;
-    if (frame == NULL || cmd == NULL) {
+    if (frame == NULL) {
         return TV_ERR_NULL;
     }
-    if (frame->extended || frame->id != CAN_PROTO_ID_CMD_CONTROL) {
+    if (frame->extended || frame->id != s_msgs[k].id) {
         return CAN_PROTO_RX_UNKNOWN_ID;
     }
     rc = can_proto_check(frame);
+    if (rc == CAN_PROTO_RX_ACCEPTED) {
+        (void)can_proto_unpack(&s_msgs[k], frame, phys);
+    }
+    return rc;
+}
+
+int can_proto_decode_control(const hal_can_frame_t *frame, can_proto_control_t *cmd)
+{
+    float phys[CAN_PROTO_MAX_SIGNALS] = {0.0f};
+    const int rc = cmd == NULL ? TV_ERR_NULL : unpack_command(frame, 0, phys);
     if (rc != CAN_PROTO_RX_ACCEPTED) {
         return rc;
     }
-    (void)can_proto_unpack(&s_msgs[0], frame, phys);
     cmd->mode = (app_mode_t)(int)phys[2];
     cmd->target_rad = phys[3];
     cmd->duty_limit = phys[4];
@@ -421,18 +430,10 @@ int can_proto_decode_control(const hal_can_frame_t *frame, can_proto_control_t *
 int can_proto_decode_excitation(const hal_can_frame_t *frame, can_proto_excitation_t *cmd)
 {
     float phys[CAN_PROTO_MAX_SIGNALS] = {0.0f};
-    int rc;
-    if (frame == NULL || cmd == NULL) {
-        return TV_ERR_NULL;
-    }
-    if (frame->extended || frame->id != CAN_PROTO_ID_CMD_EXCITATION) {
-        return CAN_PROTO_RX_UNKNOWN_ID;
-    }
-    rc = can_proto_check(frame);
+    const int rc = cmd == NULL ? TV_ERR_NULL : unpack_command(frame, 1, phys);
     if (rc != CAN_PROTO_RX_ACCEPTED) {
         return rc;
     }
-    (void)can_proto_unpack(&s_msgs[1], frame, phys);
     cmd->amplitude_V = phys[2];
     cmd->freq_Hz = phys[3];
     cmd->chirp_f1_Hz = phys[4];
