@@ -19,7 +19,7 @@ static const uint32_t s_check_fault[CHK_N] = {APP_FAULT_CURRENT_RANGE, APP_FAULT
 
 void app_calib_default(app_calib_t *c, const tvm_params_t *p)
 {
-    /* Front end of host_sim/plant.h: ADC 12 bit, Vref 3.3 V, LSB = Vref / 4096.
+    /* Front end of host_sim/plant/plant.h: ADC 12 bit, Vref 3.3 V, LSB = Vref / 4096.
      * current: V = 1.65 + 0.1 i -> counts = 4096/3.3 (1.65 + 0.1 i) = 2048 + 124.12 i
      * tracks:  V = 0.66 * 5 (0.1 + 0.8 s), s = (phi - closed)/(open - closed)
      *          -> counts1 = 4096 (0.1 + 0.8 s), counts2 = 4096 (0.9 - 0.8 s)

@@ -4,7 +4,7 @@
  *        raw ADC counts -> physical units (calibration) -> plausibility checks -> EKF ->
  *        control (open-loop excitation or closed-loop position) -> PWM duty and bridge enable;
  *        or, in APP_MODE_EXTERNAL, estimation alone with the duty another controller applied
- *        (replay of logged bench streams: host_sim/replay.h).
+ *        (replay of logged bench streams: host_sim/replay/replay.h).
  *
  * app_step() is pure (inputs in, outputs out, state in the caller-owned app_t); app_tick() in
  * app_tick.c wraps it with the HAL for the platforms. Nothing here touches hardware.
@@ -164,7 +164,7 @@ typedef struct {
 } app_t;
 
 /**
- * Calibration matching the host_sim plant's default front end (documented in host_sim/plant.h):
+ * Calibration matching the host_sim plant's default front end (documented in host_sim/plant/plant.h):
  * 12-bit ADC, 3.3 V reference, current sense 1.65 V + 0.1 V/A, tracks 0.1..0.9 x 5 V over the
  * stop-to-stop travel through a 0.66 divider, supply through 1/6.
  */

@@ -1,6 +1,6 @@
 /**
  * @file rawlog.c
- * @brief Binary raw-ADC log encoder (see rawlog.h and host_sim/LOG_FORMATS.md).
+ * @brief Binary raw-ADC log encoder (see rawlog.h and host_sim/replay/LOG_FORMATS.md).
  */
 #include "rawlog.h"
 

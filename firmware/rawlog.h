@@ -5,7 +5,7 @@
  *
  * Platform-neutral C99: no heap, no stdio, no HAL, no scalar type of the estimator (the
  * calibration is stored as IEEE float64 whatever the build). The host reads these files with
- * host_sim/rawlog_read.h; the byte-exact specification with offsets is host_sim/LOG_FORMATS.md.
+ * host_sim/replay/rawlog_read.h; the byte-exact specification with offsets is host_sim/replay/LOG_FORMATS.md.
  *
  * FILE = header (RAWLOG_HEADER_SIZE bytes) followed by blocks of identical size. All multi-byte
  * fields are little-endian; floats are IEEE 754 binary32 / binary64.

@@ -3,7 +3,7 @@
  * @brief Hardware abstraction: the plain functions the 1 kHz application needs from a platform.
  *
  * One implementation per executable, chosen at link time (STYLE.md): host simulation
- * (host_sim/sim_hal.c), Cortex-M4 ECU, Linux real-time controller, test fakes. No dispatch
+ * (host_sim/sim/sim_hal.c), Cortex-M4 ECU, Linux real-time controller, test fakes. No dispatch
  * tables: exactly one definition of each function is linked.
  *
  * All functions return 0 on success and a negative tv_status_t on error unless documented

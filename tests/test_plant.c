@@ -1,6 +1,6 @@
 /**
  * @file test_plant.c
- * @brief Tests of the high-fidelity plant (host_sim/plant.h): friction, springs, stops, armature,
+ * @brief Tests of the high-fidelity plant (host_sim/plant/plant.h): friction, springs, stops, armature,
  *        H-bridge, sensors, ADC, noise, configuration. Each check states why its tolerance holds.
  */
 #include <math.h>

@@ -1,7 +1,7 @@
 /**
  * @file test_rawlog.c
  * @brief Tests of the binary raw-log encoder (firmware/rawlog.h): CRC-32, header and record
- *        byte layout at the offsets of host_sim/LOG_FORMATS.md, value checks, block assembly.
+ *        byte layout at the offsets of host_sim/replay/LOG_FORMATS.md, value checks, block assembly.
  *        Exact comparisons throughout: the encoder copies bits, it computes nothing.
  */
 #include <math.h>

@@ -1,6 +1,6 @@
 /**
  * @file test_replay_params.c
- * @brief Tests of the parameter files of host_sim and replay (host_sim/params.h): a written
+ * @brief Tests of the parameter files of host_sim and replay (host_sim/replay/params.h): a written
  *        file reads back to the same configuration, and every kind of bad file is an error
  *        naming the file, the line and the key. Built for the double and the float application.
  */

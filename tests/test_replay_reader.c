@@ -1,6 +1,6 @@
 /**
  * @file test_replay_reader.c
- * @brief Tests of the raw-log reader and writer (host_sim/rawlog_read.h, rawlog_write.h) and of
+ * @brief Tests of the raw-log reader and writer (host_sim/replay/rawlog_read.h, rawlog_write.h) and of
  *        the number formatter: good logs in both formats, and every kind of bad input, each
  *        with its error class, the line or byte offset in the message, fatal or recoverable,
  *        and what skipping delivers afterwards. The values are integers and bit copies: every

@@ -1,7 +1,7 @@
 /**
  * @file test_sim.c
- * @brief Tests of the host simulation: the simulation HAL (host_sim/sim_hal.h), the firmware
- *        application's safe state driven through it, the simulation core (host_sim/sim.h) and
+ * @brief Tests of the host simulation: the simulation HAL (host_sim/sim/sim_hal.h), the firmware
+ *        application's safe state driven through it, the simulation core (host_sim/sim/sim.h) and
  *        its statistics. Built against the double (sim_f64) and the float (sim_f32) application.
  *        Accuracy targets are not tested here (they belong to the tuning of Q and R).
  */

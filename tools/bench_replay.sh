@@ -11,8 +11,8 @@
 set -euo pipefail
 build=${1:?usage: bench_replay.sh <build dir> [seconds]}
 secs=${2:-3600}
-gen=$build/host_sim/rawlog_gen
-rep=$build/host_sim/replay
+gen=$build/bin/rawlog_gen
+rep=$build/bin/replay
 dir=$build/bench_replay
 mkdir -p "$dir"
 

@@ -8,6 +8,6 @@ tools/setup.sh
 cmake --preset host-release >/dev/null
 cmake --build build/host-release -j"$(nproc 2>/dev/null || echo 2)" --target host_sim >/dev/null
 mkdir -p out
-build/host-release/host_sim/host_sim --out out "$@"
+build/host-release/bin/host_sim --out out "$@"
 /usr/bin/python3 tools/plot_run.py out/paper_sine.csv --out out
 echo "log, metrics and plots are in out/"

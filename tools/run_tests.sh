@@ -51,14 +51,14 @@ run_tidy() {
   return "$rc"
 }
 mapfile -t srcs < <(git ls-files 'firmware/*.c' 'hal/*.c' 'host_sim/*.c' 2>/dev/null || true)
-if ((${#srcs[@]} == 0)); then mapfile -t srcs < <(ls firmware/*.c hal/*.c host_sim/*.c 2>/dev/null); fi
+if ((${#srcs[@]} == 0)); then mapfile -t srcs < <(ls firmware/*.c hal/*.c host_sim/*/*.c 2>/dev/null); fi
 # hal/stm32f4 is Cortex-M code (inline assembly, core registers): analysed below for its own
 # target with newlib's headers, not as host code.
 mapfile -t srcs < <(printf '%s\n' "${srcs[@]}" | grep -v '^hal/stm32f4/')
 mapfile -t m4f_srcs < <(ls hal/stm32f4/*.c 2>/dev/null || true)
 cppcheck --std=c99 --enable=warning,style,performance,portability --error-exitcode=1 --inline-suppr \
-  --quiet -Ifirmware -Ihal -Ihost_sim "${srcs[@]}"
-run_tidy "${srcs[@]}" -- -std=c99 -Ifirmware -Ihal -Ihost_sim
+  --quiet -Ifirmware -Ihal -Ihost_sim/plant -Ihost_sim/sim -Ihost_sim/replay "${srcs[@]}"
+run_tidy "${srcs[@]}" -- -std=c99 -Ifirmware -Ihal -Ihost_sim/plant -Ihost_sim/sim -Ihost_sim/replay
 if ((${#m4f_srcs[@]})); then
   m4f_flags=(-std=c99 --target=arm-none-eabi -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16
     -Ifirmware -Ihal -Ihal/stm32f4 -isystem /usr/lib/arm-none-eabi/include)

@@ -28,7 +28,7 @@ import subprocess
 import sys
 import tempfile
 
-# Sensor front end of host_sim/plant.h (defaults) and the paper's noise levels.
+# Sensor front end of host_sim/plant/plant.h (defaults) and the paper's noise levels.
 ADC_REF_V, ADC_COUNTS = 3.3, 4096
 CURRENT_GAIN_V_A, CURRENT_NOISE_A = 0.1, 0.01
 TRAVEL_RAD = 84.0 * math.pi / 180.0
@@ -59,7 +59,7 @@ def run_mc(host_sim, scenario, seeds, qu, qT, r_i, r_phi, outdir):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--host-sim", default="build/host-release/host_sim/host_sim")
+    ap.add_argument("--host-sim", default="build/host-release/bin/host_sim")
     ap.add_argument("--seeds", type=int, default=50)
     ap.add_argument("--scenario", default="paper_sine")
     a = ap.parse_args()

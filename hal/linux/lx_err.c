@@ -13,7 +13,7 @@ void lx_err_set(char *err, size_t err_len, const char *fmt, ...)
         va_list ap;
         va_start(ap, fmt);
         /* clang-tidy 14 reports this va_list as uninitialised whenever this file is not the
-         * first of a multi-file run (any file with this pattern, e.g. host_sim/params.c too):
+         * first of a multi-file run (any file with this pattern, e.g. host_sim/replay/params.c too):
          * a false positive of clang-analyzer-valist.Uninitialized; va_start is right above. */
         (void)vsnprintf(err, err_len, fmt, ap); // NOLINT(clang-analyzer-valist.Uninitialized)
         va_end(ap);

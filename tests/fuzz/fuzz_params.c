@@ -1,6 +1,6 @@
 /**
  * @file fuzz_params.c
- * @brief libFuzzer target of the parameter-file parser (host_sim/params.h) and of applying the
+ * @brief libFuzzer target of the parameter-file parser (host_sim/replay/params.h) and of applying the
  *        result to the default configuration and initialising the application with it.
  */
 #include <stddef.h>

@@ -1,6 +1,6 @@
 /**
  * @file fuzz_rawlog.c
- * @brief libFuzzer target of the raw-log reader (host_sim/rawlog_read.h), CSV or binary by the
+ * @brief libFuzzer target of the raw-log reader (host_sim/replay/rawlog_read.h), CSV or binary by the
  *        macro FUZZ_FORMAT (RLR_FMT_CSV / RLR_FMT_BIN), built with clang
  *        -fsanitize=fuzzer,address,undefined (tests/fuzz/CMakeLists.txt).
  *

@@ -24,7 +24,7 @@ Tolerances (each one stated where it is checked):
       sigma. The VM runs with -icount (guest time = instructions executed), so its timing is
       deterministic: the controller wakes within microseconds and reads the sample the plant
       wrote 0.9 ms earlier. What remains is the filter's model (firmware/tv_model.h) against
-      the high-fidelity plant (host_sim/plant.h: stick-slip, Hunt-Crossley stops) and the
+      the high-fidelity plant (host_sim/plant/plant.h: stick-slip, Hunt-Crossley stops) and the
       plant taking up a new duty at its next 1 ms step. Filter sigma while moving: current
       0.010 A, velocity 0.06 rad/s, angle 1.1e-4 rad. Bounds: current 0.05 A (5 sigma),
       velocity 0.5 rad/s (8 sigma: stop impacts change the velocity within a step), angle

@@ -1,7 +1,7 @@
 /**
  * @file vm_plant.c
  * @brief The throttle valve for throttle_linux inside the test VM: the high-fidelity plant
- *        (host_sim/plant.h) behind the same interfaces a real controller has.
+ *        (host_sim/plant/plant.h) behind the same interfaces a real controller has.
  *
  *   vm_plant --root DIR --gpio-phys ADDR --enable-line N --fault-line N --duration-s S
  *            --truth FILE [--seed N] [--fault-at S --fault-len S] [--cpu N]

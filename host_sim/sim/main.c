@@ -97,12 +97,12 @@ static void usage(FILE *f)
             "  --drop-every N    skip every N-th application tick (missing samples), N >= 2\n"
             "  --out DIR         output directory, created if missing (default out)\n"
             "  --params FILE     application parameters (model, noise, calibration, limits) as\n"
-            "                    key = value lines (host_sim/params.h; the plant keeps its own)\n"
+            "                    key = value lines (host_sim/replay/params.h; the plant keeps its own)\n"
             "  --print-params    print the parameter file of the defaults (with --params: of the\n"
             "                    result) and exit\n"
             "  --raw-log PATH    also write the raw ADC stream the application read (counts, duty,\n"
             "                    driver fault, bridge enable, plant truth) for replay\n"
-            "  --raw-format F    csv (default) or bin (TVRAWLOG), host_sim/LOG_FORMATS.md\n"
+            "  --raw-format F    csv (default) or bin (TVRAWLOG), host_sim/replay/LOG_FORMATS.md\n"
             "Outputs: DIR/<scenario>.csv, DIR/<scenario>_metrics.txt, DIR/<scenario>_metrics.json.\n"
             "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n",
             SIM_DURATION_MAX_S, SIM_MC_SEEDS_MAX, (double)EKF_DEFAULT_QU_V2_S, (double)EKF_DEFAULT_QT_NM2_S);

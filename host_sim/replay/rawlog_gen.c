@@ -1,6 +1,6 @@
 /**
  * @file rawlog_gen.c
- * @brief rawlog_gen: write a long raw ADC log of the high-fidelity plant (host_sim/plant.h)
+ * @brief rawlog_gen: write a long raw ADC log of the high-fidelity plant (host_sim/plant/plant.h)
  *        driven open loop, streaming (constant memory whatever the length), for the replay
  *        throughput benchmark and for tests. See usage().
  *

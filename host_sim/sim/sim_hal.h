@@ -1,6 +1,6 @@
 /**
  * @file sim_hal.h
- * @brief Host-simulation implementation of hal/hal.h on ONE static plant (host_sim/plant.h),
+ * @brief Host-simulation implementation of hal/hal.h on ONE static plant (host_sim/plant/plant.h),
  *        and the simulation-only controls the HAL functions cannot express: configuring the
  *        plant, advancing plant time, reading the true state, and injecting faults.
  *

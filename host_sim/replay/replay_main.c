@@ -1,7 +1,7 @@
 /**
  * @file replay_main.c
  * @brief replay: run a logged raw ADC stream through the firmware's application step and
- *        write the estimates as CSV (see usage() and host_sim/replay.h).
+ *        write the estimates as CSV (see usage() and host_sim/replay/replay.h).
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -27,7 +27,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: %s [options] [LOG | -]\n"
             "\n"
-            "Replays a raw ADC log (CSV or binary TVRAWLOG, host_sim/LOG_FORMATS.md; '-' or no LOG: stdin)\n"
+            "Replays a raw ADC log (CSV or binary TVRAWLOG, host_sim/replay/LOG_FORMATS.md; '-' or no LOG: stdin)\n"
             "through the firmware's own application step (%s build): count calibration, plausibility checks\n"
             "and EKF, with the logged duty (APP_MODE_EXTERNAL). Writes one CSV line per sample: estimates,\n"
             "their standard deviations, innovations, NIS, fault flags.\n"

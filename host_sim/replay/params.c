@@ -519,7 +519,7 @@ int params_write(FILE *f, const app_config_t *cfg, const params_t *p)
         return TV_ERR_NULL;
     }
     c = *cfg;
-    fputs("# Parameter file of host_sim and replay (host_sim/params.h, LOG_FORMATS.md): key = value.\n"
+    fputs("# Parameter file of host_sim and replay (host_sim/replay/params.h, LOG_FORMATS.md): key = value.\n"
           "# Every key is optional; a key not given keeps its default.\n",
           f);
     for (k = 0; k < K_COUNT; ++k) {

@@ -1,6 +1,6 @@
 /**
  * @file rawlog_read.h
- * @brief Streaming reader of raw ADC logs in both formats of host_sim/LOG_FORMATS.md: the CSV
+ * @brief Streaming reader of raw ADC logs in both formats of host_sim/replay/LOG_FORMATS.md: the CSV
  *        text format and the binary TVRAWLOG format (firmware/rawlog.h).
  *
  * Constant memory whatever the input: one fixed input buffer (RLR_BUF_SIZE), CSV lines of at

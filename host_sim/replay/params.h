@@ -9,7 +9,7 @@
  *     # comment                      blank lines and comments are ignored
  *     model.R_ohm = 4.3              key = value; a value may be followed by "# comment"
  *     ekf.qu_V2_s = 5e-06
- * Keys are listed with their units and ranges in host_sim/LOG_FORMATS.md ("Parameter files")
+ * Keys are listed with their units and ranges in host_sim/replay/LOG_FORMATS.md ("Parameter files")
  * and by params_key_*(); values are decimal numbers (integers where the key says so).
  * Errors name the file, the line and the key: a line that is not `key = value`, an unknown key,
  * a missing value, a value that is not a number / not finite / not an integer, a value out of

@@ -34,7 +34,7 @@ static int csv_header(rlw_t *w, const char *comment)
     }
     fputc('\n', w->f);
     fputs("# tvrawlog-csv: raw ADC stream of the throttle-valve actuator, one sample per line "
-          "(host_sim/LOG_FORMATS.md)\n",
+          "(host_sim/replay/LOG_FORMATS.md)\n",
           w->f);
     if (comment != NULL && comment[0] != '\0') {
         fputs("# ", w->f);

@@ -1,7 +1,7 @@
 /**
  * @file log_convert.c
  * @brief log_convert: convert raw ADC logs between the CSV and the binary TVRAWLOG formats
- *        (host_sim/LOG_FORMATS.md), streaming, with the reader's validation (see usage()).
+ *        (host_sim/replay/LOG_FORMATS.md), streaming, with the reader's validation (see usage()).
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -26,7 +26,7 @@ static void usage(FILE *f)
             "usage: %s [--from auto|csv|bin] [--to csv|bin] [--block-records N] [--on-error stop|skip]\n"
             "                   [-o OUT | -] [IN | -]\n"
             "\n"
-            "Converts a raw ADC log between CSV and binary TVRAWLOG (host_sim/LOG_FORMATS.md), streaming\n"
+            "Converts a raw ADC log between CSV and binary TVRAWLOG (host_sim/replay/LOG_FORMATS.md), streaming\n"
             "(constant memory). Every record is validated as replay validates it. IN and OUT default to\n"
             "stdin / stdout ('-'); binary output is not written to a terminal.\n"
             "\n"

@@ -1,0 +1,228 @@
+/**
+ * @file sim_report.c
+ * @brief Report writers of the simulation: CSV rows, metrics text and JSON.
+ */
+#include "sim.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim_internal.h"
+
+#include "tv_status.h"
+
+/* ------------------------------------------------------------------------------------------ */
+/* Output                                                                                      */
+/* ------------------------------------------------------------------------------------------ */
+
+static const char *const s_csv_columns =
+    "t_s,i_true_A,w_true_rad_s,phi_true_rad,adc_current,adc_tps1,adc_tps2,adc_supply,u_applied_V,u_bridge_V,"
+    "duty,bridge_enable,target_rad,i_meas_A,w_meas_rad_s,phi_meas_rad,i_est_A,w_est_rad_s,phi_est_rad,"
+    "i_sigma_A,w_sigma_rad_s,phi_sigma_rad,innov_i_A,innov_w_rad_s,innov_phi_rad,innov_i_sigma_A,"
+    "innov_w_sigma_rad_s,innov_phi_sigma_rad,nis,nis_dof,nees,mode,faults,ekf_status,missing_samples,"
+    "i_paper_A,w_paper_rad_s,phi_paper_rad,i_paper_sigma_A,w_paper_sigma_rad_s,phi_paper_sigma_rad,"
+    "i_printed_A,w_printed_rad_s,phi_printed_rad,i_eq12_A,w_eq12_rad_s,phi_eq12_rad,i_eq12x_A,w_eq12x_rad_s,"
+    "phi_eq12x_rad\n";
+
+int sim_csv_header(FILE *f)
+{
+    if (f == NULL) {
+        return TV_ERR_NULL;
+    }
+    return fputs(s_csv_columns, f) < 0 ? TV_ERR_IO : TV_OK;
+}
+
+int sim_csv_row(FILE *f, const sim_row_t *r)
+{
+    int n;
+    if (f == NULL || r == NULL) {
+        return TV_ERR_NULL;
+    }
+    n = fprintf(f,
+                "%.9g,%.9g,%.9g,%.9g,%u,%u,%u,%u,%.9g,%.9g,%.9g,%d,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,"
+                "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%d,%.9g,%d,%lu,%d,%lu,"
+                "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n",
+                r->t_s, r->truth[0], r->truth[1], r->truth[2], (unsigned)r->adc[0], (unsigned)r->adc[1],
+                (unsigned)r->adc[2], (unsigned)r->adc[3], r->u_applied_V, r->u_bridge_V, r->duty, r->bridge_enable,
+                r->target_rad, r->z[EKF_CH_CURRENT], r->z[EKF_CH_VELOCITY], r->z[EKF_CH_ANGLE], r->x[0], r->x[1],
+                r->x[2], r->sigma[0], r->sigma[1], r->sigma[2], r->innov[EKF_CH_CURRENT], r->innov[EKF_CH_VELOCITY],
+                r->innov[EKF_CH_ANGLE], r->innov_sigma[EKF_CH_CURRENT], r->innov_sigma[EKF_CH_VELOCITY],
+                r->innov_sigma[EKF_CH_ANGLE], r->nis, r->nis_dof, r->nees, r->mode, (unsigned long)r->faults,
+                r->ekf_status, (unsigned long)r->missing_samples, r->x_paper[0], r->x_paper[1], r->x_paper[2],
+                r->sigma_paper[0], r->sigma_paper[1], r->sigma_paper[2], r->x_printed[0], r->x_printed[1],
+                r->x_printed[2], r->x_eq12[0], r->x_eq12[1], r->x_eq12[2], r->x_eq12x[0], r->x_eq12x[1], r->x_eq12x[2]);
+    return n < 0 ? TV_ERR_IO : TV_OK;
+}
+
+/* JSON number or null. */
+static void sim_jnum(FILE *f, double v)
+{
+    if (sim_finite(v)) {
+        fprintf(f, "%.9g", v);
+    } else {
+        fputs("null", f);
+    }
+}
+
+/* rmse: SIM_EST_COUNT x TVM_NX, row-major */
+static void sim_print_rmse_rows(FILE *f, const double *rmse)
+{
+    int e;
+    fprintf(f, "  %-28s %13s %17s %13s\n", "estimator", "current [A]", "velocity [rad/s]", "angle [rad]");
+    for (e = 0; e < (int)SIM_EST_COUNT; ++e) {
+        const double *r = rmse + (size_t)e * TVM_NX;
+        fprintf(f, "  %-28s %13.6g %17.6g %13.6g\n", sim_est_name((sim_est_t)e), r[0], r[1], r[2]);
+    }
+}
+
+static void sim_json_rmse(FILE *f, const char *key, const double *rmse)
+{
+    int e;
+    fprintf(f, "  \"%s\": {\n", key);
+    for (e = 0; e < (int)SIM_EST_COUNT; ++e) {
+        fprintf(f, "    \"%s\": {\"label\": \"%s\", \"current_A\": ", sim_est_id((sim_est_t)e), sim_est_name((sim_est_t)e));
+        sim_jnum(f, rmse[(size_t)e * TVM_NX + 0]);
+        fputs(", \"velocity_rad_s\": ", f);
+        sim_jnum(f, rmse[(size_t)e * TVM_NX + 1]);
+        fputs(", \"angle_rad\": ", f);
+        sim_jnum(f, rmse[(size_t)e * TVM_NX + 2]);
+        fprintf(f, "}%s\n", e + 1 < (int)SIM_EST_COUNT ? "," : "");
+    }
+    fputs("  },\n", f);
+}
+
+int sim_result_print(FILE *f, const sim_result_t *r)
+{
+    if (f == NULL || r == NULL) {
+        return TV_ERR_NULL;
+    }
+    fprintf(f, "scenario %s, seed %llu, %.3f s simulated, %lu ticks, %lu scored (t >= %.2f s)\n",
+            sim_scenario_name(r->scenario), (unsigned long long)r->seed, r->duration_s, (unsigned long)r->n_ticks,
+            (unsigned long)r->n_scored, SIM_TRANSIENT_S);
+    fputs("RMSE against the plant truth:\n", f);
+    sim_print_rmse_rows(f, &r->rmse[0][0]);
+    fprintf(f, "  %-28s %13.6g %17.6g %13.6g\n", "measurement bias (mean err)", r->meas_bias[0], r->meas_bias[1],
+            r->meas_bias[2]);
+    fprintf(f, "app filter consistency:\n");
+    fprintf(f, "  NEES average %.4g (3 dof, N = %lu), 95%% band of the average [%.4g, %.4g]%s\n", r->nees_avg,
+            (unsigned long)r->nees_n, r->nees_lo, r->nees_hi,
+            sim_finite(r->nees_avg) ? (r->nees_avg >= r->nees_lo && r->nees_avg <= r->nees_hi ? "  inside" : "  OUTSIDE")
+                                    : "");
+    fprintf(f, "  NIS  average %.4g (%.3g dof, N = %lu), 95%% band of the average [%.4g, %.4g]%s\n", r->nis_avg,
+            r->nis_dof_avg, (unsigned long)r->nis_n, r->nis_lo, r->nis_hi,
+            sim_finite(r->nis_avg) ? (r->nis_avg >= r->nis_lo && r->nis_avg <= r->nis_hi ? "  inside" : "  OUTSIDE")
+                                   : "");
+    fprintf(f, "events:\n");
+    fprintf(f, "  faults latched 0x%02lx (%lu ticks with a fault", (unsigned long)r->faults, (unsigned long)r->fault_ticks);
+    if (sim_finite(r->first_fault_t_s)) {
+        fprintf(f, ", first at %.3f s", r->first_fault_t_s);
+    }
+    fprintf(f, "), EKF rejections %lu, missing samples %lu, HAL errors %lu\n", (unsigned long)r->ekf_rejections,
+            (unsigned long)r->missing_samples, (unsigned long)r->hal_errors);
+    fprintf(f, "  divergence-guard resets: paper as printed %lu, eq.12 predict %lu, eq.12 + exact Jac. %lu; "
+               "paper set-up rejections %lu\n",
+            (unsigned long)r->paper_printed_resets, (unsigned long)r->paper_eq12_resets,
+            (unsigned long)r->paper_eq12x_resets, (unsigned long)r->paper_setup_rejections);
+    return ferror(f) ? TV_ERR_IO : TV_OK;
+}
+
+int sim_result_json(FILE *f, const sim_result_t *r)
+{
+    if (f == NULL || r == NULL) {
+        return TV_ERR_NULL;
+    }
+    fprintf(f, "{\n  \"scenario\": \"%s\",\n  \"seed\": %llu,\n  \"duration_s\": %.9g,\n  \"ticks\": %lu,\n",
+            sim_scenario_name(r->scenario), (unsigned long long)r->seed, r->duration_s, (unsigned long)r->n_ticks);
+    fprintf(f, "  \"transient_s\": %.9g,\n  \"scored_ticks\": %lu,\n", SIM_TRANSIENT_S, (unsigned long)r->n_scored);
+    sim_json_rmse(f, "rmse", &r->rmse[0][0]);
+    fputs("  \"measurement_bias\": {\"current_A\": ", f);
+    sim_jnum(f, r->meas_bias[0]);
+    fputs(", \"velocity_rad_s\": ", f);
+    sim_jnum(f, r->meas_bias[1]);
+    fputs(", \"angle_rad\": ", f);
+    sim_jnum(f, r->meas_bias[2]);
+    fputs("},\n  \"nees\": {\"average\": ", f);
+    sim_jnum(f, r->nees_avg);
+    fputs(", \"dof\": 3, \"band95\": [", f);
+    sim_jnum(f, r->nees_lo);
+    fputs(", ", f);
+    sim_jnum(f, r->nees_hi);
+    fprintf(f, "], \"n\": %lu},\n  \"nis\": {\"average\": ", (unsigned long)r->nees_n);
+    sim_jnum(f, r->nis_avg);
+    fputs(", \"dof\": ", f);
+    sim_jnum(f, r->nis_dof_avg);
+    fputs(", \"band95\": [", f);
+    sim_jnum(f, r->nis_lo);
+    fputs(", ", f);
+    sim_jnum(f, r->nis_hi);
+    fprintf(f, "], \"n\": %lu},\n", (unsigned long)r->nis_n);
+    fprintf(f, "  \"faults\": %lu,\n  \"fault_ticks\": %lu,\n  \"first_fault_t_s\": ", (unsigned long)r->faults,
+            (unsigned long)r->fault_ticks);
+    sim_jnum(f, r->first_fault_t_s);
+    fprintf(f, ",\n  \"ekf_rejections\": %lu,\n  \"missing_samples\": %lu,\n  \"hal_errors\": %lu,\n",
+            (unsigned long)r->ekf_rejections, (unsigned long)r->missing_samples, (unsigned long)r->hal_errors);
+    fprintf(f,
+            "  \"paper_setup_rejections\": %lu,\n  \"paper_printed_resets\": %lu,\n  \"paper_eq12_resets\": %lu,\n"
+            "  \"paper_eq12_exact_resets\": %lu\n}\n",
+            (unsigned long)r->paper_setup_rejections, (unsigned long)r->paper_printed_resets,
+            (unsigned long)r->paper_eq12_resets, (unsigned long)r->paper_eq12x_resets);
+    return ferror(f) ? TV_ERR_IO : TV_OK;
+}
+
+int sim_mc_print(FILE *f, const sim_mc_result_t *m)
+{
+    if (f == NULL || m == NULL) {
+        return TV_ERR_NULL;
+    }
+    fprintf(f, "Monte Carlo: scenario %s, %lu seeds from %llu, %.3f s each, %lu scored ticks per run (t >= %.2f s)\n",
+            sim_scenario_name(m->scenario), (unsigned long)m->n_seeds, (unsigned long long)m->first_seed,
+            m->duration_s, (unsigned long)m->n_ticks_scored, SIM_TRANSIENT_S);
+    fputs("mean RMSE over seeds:\n", f);
+    sim_print_rmse_rows(f, &m->rmse_mean[0][0]);
+    fputs("largest RMSE over seeds:\n", f);
+    sim_print_rmse_rows(f, &m->rmse_max[0][0]);
+    fprintf(f, "app filter consistency:\n");
+    fprintf(f, "  ANEES %.4g (3 dof); 95%% band of the %lu-run average per tick [%.4g, %.4g]; ticks inside: %.1f %%\n",
+            m->anees, (unsigned long)m->n_seeds, m->band_lo, m->band_hi, 100.0 * m->frac_ticks_in_band);
+    fprintf(f, "  (band of the grand average if all samples were independent: [%.4g, %.4g])\n", m->anees_lo,
+            m->anees_hi);
+    fprintf(f, "  ANIS %.4g (%.3g dof)\n", m->anis, m->nis_dof_avg);
+    fprintf(f, "events: runs with faults %lu, EKF rejections %lu, missing samples %lu, paper-as-printed resets %lu\n",
+            (unsigned long)m->runs_with_faults, (unsigned long)m->ekf_rejections, (unsigned long)m->missing_samples,
+            (unsigned long)m->paper_printed_resets);
+    return ferror(f) ? TV_ERR_IO : TV_OK;
+}
+
+int sim_mc_json(FILE *f, const sim_mc_result_t *m)
+{
+    if (f == NULL || m == NULL) {
+        return TV_ERR_NULL;
+    }
+    fprintf(f, "{\n  \"scenario\": \"%s\",\n  \"seeds\": %lu,\n  \"first_seed\": %llu,\n  \"duration_s\": %.9g,\n",
+            sim_scenario_name(m->scenario), (unsigned long)m->n_seeds, (unsigned long long)m->first_seed, m->duration_s);
+    fprintf(f, "  \"transient_s\": %.9g,\n  \"scored_ticks_per_run\": %lu,\n", SIM_TRANSIENT_S,
+            (unsigned long)m->n_ticks_scored);
+    sim_json_rmse(f, "rmse_mean", &m->rmse_mean[0][0]);
+    sim_json_rmse(f, "rmse_max", &m->rmse_max[0][0]);
+    fputs("  \"anees\": ", f);
+    sim_jnum(f, m->anees);
+    fputs(",\n  \"band95_m_run_average\": [", f);
+    sim_jnum(f, m->band_lo);
+    fputs(", ", f);
+    sim_jnum(f, m->band_hi);
+    fputs("],\n  \"fraction_ticks_in_band\": ", f);
+    sim_jnum(f, m->frac_ticks_in_band);
+    fputs(",\n  \"band95_grand_average\": [", f);
+    sim_jnum(f, m->anees_lo);
+    fputs(", ", f);
+    sim_jnum(f, m->anees_hi);
+    fputs("],\n  \"anis\": ", f);
+    sim_jnum(f, m->anis);
+    fputs(",\n  \"nis_dof\": ", f);
+    sim_jnum(f, m->nis_dof_avg);
+    fprintf(f, ",\n  \"runs_with_faults\": %lu,\n  \"ekf_rejections\": %lu,\n  \"missing_samples\": %lu,\n",
+            (unsigned long)m->runs_with_faults, (unsigned long)m->ekf_rejections, (unsigned long)m->missing_samples);
+    fprintf(f, "  \"paper_printed_resets\": %lu\n}\n", (unsigned long)m->paper_printed_resets);
+    return ferror(f) ? TV_ERR_IO : TV_OK;
+}

@@ -1,0 +1,430 @@
+/**
+ * @file sim_run.c
+ * @brief One simulation run: the application against the plant, comparison estimators, metrics.
+ */
+#include "sim.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim_internal.h"
+
+#include "app_tick.h"
+#include "paper_filter.h"
+#include "sim_hal.h"
+#include "tv_status.h"
+
+/* ------------------------------------------------------------------------------------------ */
+/* One run                                                                                     */
+/* ------------------------------------------------------------------------------------------ */
+
+static void sim_result_clear(sim_result_t *res)
+{
+    int e;
+    int a;
+    memset(res, 0, sizeof *res);
+    for (e = 0; e < (int)SIM_EST_COUNT; ++e) {
+        for (a = 0; a < TVM_NX; ++a) {
+            res->rmse[e][a] = SIM_NAN;
+        }
+    }
+    for (a = 0; a < TVM_NX; ++a) {
+        res->meas_bias[a] = SIM_NAN;
+    }
+    res->nees_avg = res->nees_lo = res->nees_hi = SIM_NAN;
+    res->nis_avg = res->nis_lo = res->nis_hi = res->nis_dof_avg = SIM_NAN;
+    res->first_fault_t_s = SIM_NAN;
+}
+
+int sim_check_options(const sim_options_t *opt)
+{
+    if ((unsigned)opt->scenario >= (unsigned)SIM_SCN_COUNT || opt->drop_tick_every == 1u) {
+        return TV_ERR_RANGE;
+    }
+    if (!sim_finite(opt->duration_s) || !sim_finite(opt->r_current_A2) || !sim_finite(opt->r_angle_rad2) ||
+        !sim_finite(opt->r_velocity_rad2_s2) || (opt->q_override && (!sim_finite(opt->qu_V2_s) || !sim_finite(opt->qT_Nm2_s)))) {
+        return TV_ERR_NONFINITE;
+    }
+    if (opt->duration_s < 0.0 || opt->duration_s > SIM_DURATION_MAX_S || opt->r_current_A2 < 0.0 ||
+        opt->r_angle_rad2 < 0.0 || opt->r_velocity_rad2_s2 < 0.0 ||
+        (opt->q_override && (opt->qu_V2_s < 0.0 || opt->qT_Nm2_s < 0.0))) {
+        return TV_ERR_RANGE;
+    }
+    if (opt->setup != EKF_SETUP_CURRENT_ANGLE && opt->setup != EKF_SETUP_PAPER_3MEAS) {
+        return TV_ERR_RANGE;
+    }
+    return TV_OK;
+}
+
+/* Application configuration of a run: base, scenario control, overrides. */
+static int sim_app_config(const sim_options_t *opt, app_config_t *cfg)
+{
+    if (opt->app != NULL) {
+        *cfg = *opt->app;
+    } else {
+        app_config_default(cfg);
+    }
+    sim_scenario_control0(opt->scenario, &cfg->control);
+    cfg->ekf.setup = opt->setup;
+    if (opt->q_override) {
+        const int rc = ekf_q_from_spectral(&cfg->model, (tv_real_t)opt->qu_V2_s, (tv_real_t)opt->qT_Nm2_s, cfg->ekf.Q);
+        if (rc != TV_OK) {
+            return rc;
+        }
+    }
+    if (opt->r_current_A2 > 0.0) {
+        cfg->ekf.r[EKF_CH_CURRENT] = (tv_real_t)opt->r_current_A2;
+    }
+    if (opt->r_angle_rad2 > 0.0) {
+        cfg->ekf.r[EKF_CH_ANGLE] = (tv_real_t)opt->r_angle_rad2;
+    }
+    if (opt->r_velocity_rad2_s2 > 0.0) {
+        cfg->ekf.r[EKF_CH_VELOCITY] = (tv_real_t)opt->r_velocity_rad2_s2;
+    }
+    return TV_OK;
+}
+
+/* Everything a run carries besides the application. */
+typedef struct {
+    ekf_t paper_setup;
+    paper_filter_t printed;
+    paper_filter_t eq12;
+    paper_filter_t eq12x;
+    double sse[SIM_EST_COUNT][TVM_NX];
+    double bias_sum[TVM_NX];
+    double nees_sum;
+    double nis_sum;
+    double nis_dof_sum;
+} sim_side_t;
+
+static int sim_ekf_row_is_used(const ekf_innov_t *in, int ch)
+{
+    return in->used[ch] != 0u;
+}
+
+int sim_run(const sim_options_t *opt, sim_result_t *res)
+{
+    static app_t s_app; /* large; one run at a time (the HAL is static too) */
+    static sim_side_t s_side;
+    app_t *app = &s_app;
+    sim_side_t *side = &s_side;
+    app_config_t acfg;
+    plant_config_t pcfg;
+    ekf_config_t paper_cfg;
+    paper_filter_config_t pfc;
+    double duration_s;
+    uint32_t n_ticks;
+    uint32_t k;
+    int rc;
+
+    if (opt == NULL || res == NULL) {
+        if (res != NULL) {
+            sim_result_clear(res);
+        }
+        return TV_ERR_NULL;
+    }
+    sim_result_clear(res);
+    rc = sim_check_options(opt);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    duration_s = opt->duration_s > 0.0 ? opt->duration_s : sim_scenario_duration_s(opt->scenario);
+    n_ticks = (uint32_t)floor(duration_s / SIM_TICK_S + 0.5);
+    res->scenario = opt->scenario;
+    res->seed = opt->seed;
+    res->duration_s = (double)n_ticks * SIM_TICK_S;
+
+    /* plant and HAL */
+    if (opt->plant != NULL) {
+        pcfg = *opt->plant;
+    } else {
+        plant_config_default(&pcfg);
+    }
+    if (opt->pwm_ripple) {
+        pcfg.pwm_ripple = 1;
+    }
+    rc = sim_hal_configure(&pcfg, opt->seed);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    if (opt->scenario == SIM_SCN_STUCK_RELEASE) {
+        plant_state_t st;
+        st.current_A = 0.0;
+        st.velocity_rad_s = 0.0;
+        st.angle_rad = SIM_STUCK_ANGLE_RAD;
+        rc = sim_hal_set_state(&st);
+        if (rc != TV_OK) {
+            return rc;
+        }
+    }
+    rc = hal_init();
+    if (rc != TV_OK) {
+        return rc;
+    }
+
+    /* the application and the comparison estimators */
+    rc = sim_app_config(opt, &acfg);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    rc = app_init(app, &acfg);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    memset(side, 0, sizeof *side);
+    ekf_config_paper(&paper_cfg);
+    rc = ekf_init(&side->paper_setup, &acfg.model, &paper_cfg);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    paper_filter_config_default(&pfc);
+    rc = paper_filter_init(&side->printed, &pfc);
+    if (rc == TV_OK) {
+        pfc.predict = PAPER_PREDICT_EQ12;
+        rc = paper_filter_init(&side->eq12, &pfc);
+    }
+    if (rc == TV_OK) {
+        pfc.jacobian = PAPER_JACOBIAN_EQ12_EXACT;
+        rc = paper_filter_init(&side->eq12x, &pfc);
+    }
+    if (rc != TV_OK) {
+        return rc;
+    }
+    if (opt->csv != NULL) {
+        rc = sim_csv_header(opt->csv);
+        if (rc != TV_OK) {
+            return rc;
+        }
+    }
+
+    for (k = 0; k < n_ticks; ++k) {
+        const double t_s = (double)k * SIM_TICK_S;
+        const int scored = t_s >= SIM_TRANSIENT_S - 1e-9;
+        const uint32_t steps_before = app->n_steps;
+        const double u_prev_V = (double)app->u_applied_V;
+        app_output_t out;
+        plant_state_t truth;
+        sim_row_t row;
+        double tr[TVM_NX];
+        double est[SIM_EST_COUNT][TVM_NX];
+        int a;
+
+        rc = sim_scenario_update(opt->scenario, app, t_s);
+        if (rc != TV_OK) {
+            return rc;
+        }
+        if (opt->drop_tick_every > 1u && (k + 1u) % opt->drop_tick_every == 0u) {
+            /* a missing sample: the application does not run this period */
+            rc = sim_hal_advance(SIM_TICK_S);
+            if (rc != TV_OK) {
+                return TV_ERR_NUMERIC;
+            }
+            continue;
+        }
+        memset(&out, 0, sizeof out);
+        if (app_tick(app, &out) != TV_OK) {
+            ++res->hal_errors;
+        }
+        if (app->n_steps == steps_before) {
+            /* no sample this period (HAL read failed): the application did not step */
+            rc = sim_hal_advance(SIM_TICK_S);
+            if (rc != TV_OK) {
+                return TV_ERR_NUMERIC;
+            }
+            continue;
+        }
+        ++res->n_ticks;
+        (void)sim_hal_truth(&truth);
+        tr[TVM_I] = truth.current_A;
+        tr[TVM_W] = truth.velocity_rad_s;
+        tr[TVM_PHI] = truth.angle_rad;
+
+        /* comparison estimators on the application's inputs */
+        {
+            const uint32_t n_pred = out.missing_samples + 1u;
+            const int corrected = out.ekf_status == TV_OK && out.innov.n_used > 0u;
+            double z[EKF_NCH];
+            uint32_t p;
+            int prc = TV_OK;
+            for (a = 0; a < EKF_NCH; ++a) {
+                z[a] = (double)out.z[a];
+            }
+            for (p = 0; p < n_pred; ++p) {
+                if (prc == TV_OK) {
+                    prc = ekf_predict(&side->paper_setup, (tv_real_t)u_prev_V);
+                }
+                (void)paper_filter_predict(&side->printed, u_prev_V);
+                (void)paper_filter_predict(&side->eq12, u_prev_V);
+                (void)paper_filter_predict(&side->eq12x, u_prev_V);
+            }
+            if (prc == TV_OK && corrected) {
+                ekf_meas_t m;
+                for (a = 0; a < EKF_NCH; ++a) {
+                    m.z[a] = out.z[a];
+                }
+                prc = ekf_correct(&side->paper_setup, &m, NULL);
+            }
+            if (prc != TV_OK) {
+                ++res->paper_setup_rejections;
+            }
+            if (corrected) {
+                double innov_dummy[PAPER_NX];
+                (void)paper_filter_correct(&side->printed, z, innov_dummy);
+                (void)paper_filter_correct(&side->eq12, z, innov_dummy);
+                (void)paper_filter_correct(&side->eq12x, z, innov_dummy);
+            }
+        }
+
+        /* the row */
+        memset(&row, 0, sizeof row);
+        row.t_s = t_s;
+        for (a = 0; a < TVM_NX; ++a) {
+            row.truth[a] = tr[a];
+            row.x[a] = (double)out.x[a];
+            row.sigma[a] = (double)out.sigma[a];
+            row.x_paper[a] = (double)side->paper_setup.x[a];
+            row.sigma_paper[a] = sqrt((double)side->paper_setup.P[a][a]);
+            row.x_printed[a] = side->printed.x[a];
+            row.x_eq12[a] = side->eq12.x[a];
+            row.x_eq12x[a] = side->eq12x.x[a];
+        }
+        {
+            plant_adc_t adc;
+            if (sim_hal_last_adc(&adc) == TV_OK) {
+                row.adc[0] = adc.current_counts;
+                row.adc[1] = adc.tps1_counts;
+                row.adc[2] = adc.tps2_counts;
+                row.adc[3] = adc.supply_counts;
+            }
+        }
+        (void)sim_hal_last_adc_time_us(&row.t_us);
+        {
+            int drv = 0;
+            row.driver_fault = hal_driver_fault(&drv) == TV_OK && drv ? 1u : 0u;
+        }
+        row.duty_f = out.duty;
+        row.u_applied_V = (double)app->u_applied_V;
+        row.duty = (double)out.duty;
+        row.bridge_enable = out.bridge_enable;
+        row.target_rad = app->cfg.control.mode == APP_MODE_POSITION ? (double)app->cfg.control.target_rad : SIM_NAN;
+        for (a = 0; a < EKF_NCH; ++a) {
+            row.z[a] = (double)out.z[a];
+            if (sim_ekf_row_is_used(&out.innov, a)) {
+                row.innov[a] = (double)out.innov.innov[a];
+                row.innov_sigma[a] = sqrt((double)out.innov.innov_var[a]);
+            }
+        }
+        row.nis_dof = out.innov.n_used;
+        row.nis = out.innov.n_used > 0u ? (double)out.innov.nis_total : SIM_NAN;
+        {
+            double P[TVM_NX][TVM_NX];
+            double err[TVM_NX];
+            int b;
+            for (a = 0; a < TVM_NX; ++a) {
+                err[a] = row.x[a] - tr[a];
+                for (b = 0; b < TVM_NX; ++b) {
+                    P[a][b] = (double)app->ekf.P[a][b];
+                }
+            }
+            row.nees = sim_mahalanobis3(P, err);
+        }
+        row.mode = (int)app->cfg.control.mode;
+        row.faults = out.faults;
+        row.ekf_status = out.ekf_status;
+        row.missing_samples = out.missing_samples;
+
+        /* counters and metrics */
+        if (out.faults != 0u) {
+            ++res->fault_ticks;
+            if (!sim_finite(res->first_fault_t_s)) {
+                res->first_fault_t_s = t_s;
+            }
+        }
+        if (out.ekf_status != TV_OK) {
+            ++res->ekf_rejections;
+        }
+        res->missing_samples += out.missing_samples;
+        if (scored) {
+            int e;
+            for (a = 0; a < TVM_NX; ++a) {
+                est[SIM_EST_APP][a] = row.x[a];
+                est[SIM_EST_PAPER_SETUP][a] = row.x_paper[a];
+                est[SIM_EST_PAPER_PRINTED][a] = row.x_printed[a];
+                est[SIM_EST_PAPER_EQ12][a] = row.x_eq12[a];
+                est[SIM_EST_PAPER_EQ12_EXACT][a] = row.x_eq12x[a];
+                est[SIM_EST_MEASURED][a] = row.z[a]; /* EKF_CH_* equal TVM_* for (i, w, phi) */
+            }
+            for (e = 0; e < (int)SIM_EST_COUNT; ++e) {
+                for (a = 0; a < TVM_NX; ++a) {
+                    const double d = est[e][a] - tr[a];
+                    side->sse[e][a] += d * d;
+                }
+            }
+            for (a = 0; a < TVM_NX; ++a) {
+                side->bias_sum[a] += row.z[a] - tr[a];
+            }
+            ++res->n_scored;
+            if (sim_finite(row.nees)) {
+                side->nees_sum += row.nees;
+                ++res->nees_n;
+            }
+            if (out.innov.n_used > 0u && sim_finite(row.nis)) {
+                side->nis_sum += row.nis;
+                side->nis_dof_sum += (double)out.innov.n_used;
+                ++res->nis_n;
+            }
+        }
+
+        /* the plant integrates the period just commanded */
+        rc = sim_hal_advance(SIM_TICK_S);
+        if (rc != TV_OK) {
+            return TV_ERR_NUMERIC;
+        }
+        (void)sim_hal_bridge_voltage(&row.u_bridge_V);
+        if (opt->csv != NULL) {
+            rc = sim_csv_row(opt->csv, &row);
+            if (rc != TV_OK) {
+                return rc;
+            }
+        }
+        if (opt->row_fn != NULL) {
+            opt->row_fn(&row, opt->row_user);
+        }
+    }
+
+    /* summary */
+    if (res->n_scored > 0u) {
+        int e;
+        int a;
+        for (e = 0; e < (int)SIM_EST_COUNT; ++e) {
+            for (a = 0; a < TVM_NX; ++a) {
+                res->rmse[e][a] = sqrt(side->sse[e][a] / (double)res->n_scored);
+            }
+        }
+        for (a = 0; a < TVM_NX; ++a) {
+            res->meas_bias[a] = side->bias_sum[a] / (double)res->n_scored;
+        }
+    }
+    if (res->nees_n > 0u) {
+        const double n = (double)res->nees_n;
+        res->nees_avg = side->nees_sum / n;
+        res->nees_lo = sim_chi2_quantile(SIM_BAND_P_LO, 3.0 * n) / n;
+        res->nees_hi = sim_chi2_quantile(SIM_BAND_P_HI, 3.0 * n) / n;
+    }
+    if (res->nis_n > 0u) {
+        const double n = (double)res->nis_n;
+        res->nis_avg = side->nis_sum / n;
+        res->nis_dof_avg = side->nis_dof_sum / n;
+        res->nis_lo = sim_chi2_quantile(SIM_BAND_P_LO, side->nis_dof_sum) / n;
+        res->nis_hi = sim_chi2_quantile(SIM_BAND_P_HI, side->nis_dof_sum) / n;
+    }
+    res->faults = app->faults;
+    res->paper_printed_resets = side->printed.n_resets;
+    res->paper_eq12_resets = side->eq12.n_resets;
+    res->paper_eq12x_resets = side->eq12x.n_resets;
+    if (opt->csv != NULL && fflush(opt->csv) != 0) {
+        return TV_ERR_IO;
+    }
+    return TV_OK;
+}

@@ -1,0 +1,186 @@
+/**
+ * @file sim_scenarios.c
+ * @brief Scenario and estimator names, scenario controls and targets (see sim.h).
+ */
+#include "sim.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "sim_internal.h"
+#include "tv_status.h"
+
+/* ------------------------------------------------------------------------------------------ */
+/* Names                                                                                       */
+/* ------------------------------------------------------------------------------------------ */
+
+static const char *const s_scn_names[SIM_SCN_COUNT] = {"paper_sine", "closed_steps", "closed_ramp", "chirp",
+                                                       "stuck_release"};
+static const double s_scn_duration_s[SIM_SCN_COUNT] = {2.0, 2.5, 2.5, 2.0, 2.2};
+static const char *const s_est_names[SIM_EST_COUNT] = {"app filter", "paper set-up, our map", "paper as printed",
+                                                       "paper, eq.12 predict", "paper, eq.12 + exact Jac.",
+                                                       "measured / differentiated"};
+static const char *const s_est_ids[SIM_EST_COUNT] = {"app", "paper_setup", "paper_printed", "paper_eq12",
+                                                     "paper_eq12_exact", "measured"};
+
+const char *sim_scenario_name(sim_scenario_t s)
+{
+    return (unsigned)s < (unsigned)SIM_SCN_COUNT ? s_scn_names[s] : "?";
+}
+
+int sim_scenario_from_name(const char *name, sim_scenario_t *out)
+{
+    int k;
+    if (name == NULL || out == NULL) {
+        return TV_ERR_NULL;
+    }
+    for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
+        if (strcmp(name, s_scn_names[k]) == 0) {
+            *out = (sim_scenario_t)k;
+            return TV_OK;
+        }
+    }
+    return TV_ERR_RANGE;
+}
+
+double sim_scenario_duration_s(sim_scenario_t s)
+{
+    return (unsigned)s < (unsigned)SIM_SCN_COUNT ? s_scn_duration_s[s] : 0.0;
+}
+
+const char *sim_est_name(sim_est_t e)
+{
+    return (unsigned)e < (unsigned)SIM_EST_COUNT ? s_est_names[e] : "?";
+}
+
+const char *sim_est_id(sim_est_t e)
+{
+    return (unsigned)e < (unsigned)SIM_EST_COUNT ? s_est_ids[e] : "?";
+}
+
+void sim_options_default(sim_options_t *opt)
+{
+    if (opt == NULL) {
+        return;
+    }
+    memset(opt, 0, sizeof *opt);
+    opt->scenario = SIM_SCN_PAPER_SINE;
+    opt->duration_s = 0.0;
+    opt->seed = 1u;
+    opt->setup = EKF_SETUP_CURRENT_ANGLE;
+    opt->qu_V2_s = (double)EKF_DEFAULT_QU_V2_S;
+    opt->qT_Nm2_s = (double)EKF_DEFAULT_QT_NM2_S;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Scenarios                                                                                   */
+/* ------------------------------------------------------------------------------------------ */
+
+/* closed_steps: target sequence and dwell. */
+static const double s_step_targets_rad[4] = {0.2, 0.8, 0.05, 1.2};
+#define SIM_STEP_DWELL_S 0.5
+/* closed_ramp: hold, ramp up, ramp down. */
+#define SIM_RAMP_LO_RAD 0.1
+#define SIM_RAMP_HI_RAD 1.2
+#define SIM_RAMP_HOLD_S 0.25
+#define SIM_RAMP_TIME_S 1.0
+/* stuck_release: initial angle, pulse, ramp. */
+#define SIM_STUCK_PULSE_T_S 0.5
+#define SIM_STUCK_PULSE_LEN_S 0.04
+#define SIM_STUCK_PULSE_V 4.5
+#define SIM_STUCK_RAMP_T_S 1.2
+#define SIM_STUCK_RAMP_V_S 5.0
+
+/* Initial control of a scenario (before app_init). */
+void sim_scenario_control0(sim_scenario_t scn, app_control_t *c)
+{
+    switch (scn) {
+    case SIM_SCN_PAPER_SINE:
+        c->mode = APP_MODE_SINE;
+        c->amplitude_V = TV_R(12.0);
+        c->freq_Hz = TV_R(5.0);
+        break;
+    case SIM_SCN_CLOSED_STEPS:
+        c->mode = APP_MODE_POSITION;
+        c->target_rad = (tv_real_t)s_step_targets_rad[0];
+        break;
+    case SIM_SCN_CLOSED_RAMP:
+        c->mode = APP_MODE_POSITION;
+        c->target_rad = (tv_real_t)SIM_RAMP_LO_RAD;
+        break;
+    case SIM_SCN_CHIRP:
+        c->mode = APP_MODE_CHIRP;
+        c->amplitude_V = TV_R(12.0);
+        c->freq_Hz = TV_R(1.0);
+        c->chirp_f1_Hz = TV_R(20.0);
+        c->chirp_period_s = TV_R(2.0);
+        break;
+    case SIM_SCN_STUCK_RELEASE:
+    case SIM_SCN_COUNT:
+    default:
+        c->mode = APP_MODE_OFF;
+        break;
+    }
+}
+
+/* Target angle of the closed-loop scenarios at t [s]. */
+double sim_target_rad(sim_scenario_t scn, double t_s)
+{
+    if (scn == SIM_SCN_CLOSED_STEPS) {
+        const long n = (long)floor(t_s / SIM_STEP_DWELL_S + 1e-9);
+        return s_step_targets_rad[n % 4];
+    }
+    /* closed_ramp */
+    if (t_s < SIM_RAMP_HOLD_S) {
+        return SIM_RAMP_LO_RAD;
+    }
+    if (t_s < SIM_RAMP_HOLD_S + SIM_RAMP_TIME_S) {
+        return SIM_RAMP_LO_RAD + (SIM_RAMP_HI_RAD - SIM_RAMP_LO_RAD) * (t_s - SIM_RAMP_HOLD_S) / SIM_RAMP_TIME_S;
+    }
+    if (t_s < SIM_RAMP_HOLD_S + 2.0 * SIM_RAMP_TIME_S) {
+        return SIM_RAMP_HI_RAD -
+               (SIM_RAMP_HI_RAD - SIM_RAMP_LO_RAD) * (t_s - SIM_RAMP_HOLD_S - SIM_RAMP_TIME_S) / SIM_RAMP_TIME_S;
+    }
+    return SIM_RAMP_LO_RAD;
+}
+
+/*
+ * Update the application's control for tick time t [s]. Closed-loop targets move through
+ * app_set_target() (keeps the PID integrator); mode changes go through app_set_control().
+ */
+int sim_scenario_update(sim_scenario_t scn, app_t *app, double t_s)
+{
+    switch (scn) {
+    case SIM_SCN_CLOSED_STEPS:
+    case SIM_SCN_CLOSED_RAMP:
+        return app_set_target(app, (tv_real_t)sim_target_rad(scn, t_s));
+    case SIM_SCN_STUCK_RELEASE: {
+        app_control_t c = app->cfg.control;
+        if (t_s >= SIM_STUCK_PULSE_T_S && t_s < SIM_STUCK_PULSE_T_S + SIM_STUCK_PULSE_LEN_S - 1e-9) {
+            c.mode = APP_MODE_STEPS; /* freq 0: constant +amplitude */
+            c.freq_Hz = TV_R(0.0);
+            c.amplitude_V = (tv_real_t)SIM_STUCK_PULSE_V;
+        } else if (t_s >= SIM_STUCK_RAMP_T_S - 1e-9) {
+            c.mode = APP_MODE_STEPS;
+            c.freq_Hz = TV_R(0.0);
+            c.amplitude_V = (tv_real_t)(SIM_STUCK_RAMP_V_S * (t_s - SIM_STUCK_RAMP_T_S));
+            if (c.amplitude_V < TV_R(0.0)) {
+                c.amplitude_V = TV_R(0.0);
+            }
+        } else {
+            c.mode = APP_MODE_OFF;
+        }
+        if (c.mode != app->cfg.control.mode || c.amplitude_V != app->cfg.control.amplitude_V ||
+            c.freq_Hz != app->cfg.control.freq_Hz) {
+            return app_set_control(app, &c);
+        }
+        return TV_OK;
+    }
+    case SIM_SCN_PAPER_SINE:
+    case SIM_SCN_CHIRP:
+    case SIM_SCN_COUNT:
+    default:
+        return TV_OK;
+    }
+}
