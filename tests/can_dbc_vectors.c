@@ -1,7 +1,7 @@
 /**
  * @file can_dbc_vectors.c
  * @brief Test vectors for tests/test_can_dbc.py, which decodes them with tools/throttle.dbc:
- *        frames encoded by the C protocol (firmware/can_proto.h), printed as candump lines, each
+ *        frames encoded by the C protocol (firmware/protocols/can_proto.h), printed as candump lines, each
  *        followed by the physical value every signal must decode to.
  *
  * Output lines:

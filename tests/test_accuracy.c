@@ -2,7 +2,7 @@
  * @file test_accuracy.c
  * @brief Issue 3's accuracy targets on the default scenario (the paper's 12 V / 5 Hz experiment,
  *        paper parameters, current noise 0.01 A, angle noise 1e-4 rad, 12-bit ADC), current +
- *        angle set-up, with the default Q and R of firmware/ekf.h (chosen by
+ *        angle set-up, with the default Q and R of firmware/estimator/ekf.h (chosen by
  *        tools/tune_noise.py on TRAINING seeds 1001..1050; this test uses the disjoint
  *        EVALUATION seeds 1..50, so it checks the tuning rather than repeating it).
  *

@@ -1,6 +1,6 @@
 /**
  * @file test_can_proto.c
- * @brief Tests of the CAN protocol (firmware/can_proto.h): CRC, bit layout, encode/decode round
+ * @brief Tests of the CAN protocol (firmware/protocols/can_proto.h): CRC, bit layout, encode/decode round
  *        trips of every frame, every bad-frame case (DLC, CRC, repeated and stale counters,
  *        unknown ids, out-of-range values), the command timeout and its recovery, the
  *        telemetry schedule. Built against the float and the double application.

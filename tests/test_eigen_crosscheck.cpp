@@ -1,6 +1,6 @@
 /**
  * @file test_eigen_crosscheck.cpp
- * @brief Cross-check of the C estimator (firmware/tv_model.c, firmware/ekf.c) against the
+ * @brief Cross-check of the C estimator (firmware/estimator/tv_model.c, firmware/estimator/ekf.c) against the
  *        independent Eigen/AutoDiff reference tests/ref/tv_ref.hpp.
  *
  * Compiled twice (tests/CMakeLists.txt): linked with estimator_f64 (TV_REAL_DOUBLE, test

@@ -1,10 +1,10 @@
 /**
  * @file test_lx_config.c
- * @brief Tests of the Linux controller's configuration parser (hal/linux/lx_config.h): the
+ * @brief Tests of the Linux controller's configuration parser (firmware/linux_rt/lx_config.h): the
  *        example file parses to the documented defaults, and every kind of bad input is refused
  *        with a message that names the key and the value (what an operator needs to fix it).
  *
- *   test_lx_config <path of hal/linux/throttle_linux.conf>
+ *   test_lx_config <path of firmware/linux_rt/throttle_linux.conf>
  */
 #include <stdio.h>
 #include <string.h>
@@ -59,14 +59,14 @@ static void test_example_file_parses_to_defaults(void)
         fprintf(stderr, "  %s\n", err);
     }
     lx_config_default(&def);
-    TV_CHECK(strcmp(cfg.pwm_chip, "/sys/class/pwm/pwmchip0") == 0);
-    TV_CHECK_EQ_INT(cfg.pwm_channel_b, 1);
-    TV_CHECK(strcmp(cfg.adc_device, "/sys/bus/iio/devices/iio:device0") == 0);
-    TV_CHECK(strcmp(cfg.gpio_chip, "gpiochip0") == 0);
-    TV_CHECK_EQ_INT(cfg.gpio_fault_active_low, 1);
-    TV_CHECK(strcmp(cfg.can_interface, "can0") == 0);
+    TV_CHECK(strcmp(cfg.dev.pwm_chip, "/sys/class/pwm/pwmchip0") == 0);
+    TV_CHECK_EQ_INT(cfg.dev.pwm_channel_b, 1);
+    TV_CHECK(strcmp(cfg.dev.adc_device, "/sys/bus/iio/devices/iio:device0") == 0);
+    TV_CHECK(strcmp(cfg.dev.gpio_chip, "gpiochip0") == 0);
+    TV_CHECK_EQ_INT(cfg.dev.gpio_fault_active_low, 1);
+    TV_CHECK(strcmp(cfg.dev.can_interface, "can0") == 0);
     TV_CHECK_EQ_INT(cfg.rt_priority, def.rt_priority);
-    TV_CHECK_EQ_INT(cfg.pwm_period_ns, def.pwm_period_ns);
+    TV_CHECK_EQ_INT(cfg.dev.pwm_period_ns, def.dev.pwm_period_ns);
     TV_CHECK_EQ_INT(cfg.can.cmd_timeout_ms, def.can.cmd_timeout_ms);
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_LOOP], 100);
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_TIME], 10);
@@ -102,8 +102,8 @@ static void test_values_stored(void)
     TV_CHECK_EQ_INT(cfg.rt_priority, 0);
     TV_CHECK_EQ_INT(cfg.rt_cpu, -1);
     TV_CHECK_EQ_INT(cfg.rt_lock_memory, 0);
-    TV_CHECK_EQ_INT(cfg.pwm_period_ns, 10000);
-    TV_CHECK(strcmp(cfg.gpio_consumer, "tv bench") == 0);
+    TV_CHECK_EQ_INT(cfg.dev.pwm_period_ns, 10000);
+    TV_CHECK(strcmp(cfg.dev.gpio_consumer, "tv bench") == 0);
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_MEAS], 0);
     TV_CHECK_EQ_INT(cfg.can.max_counter_delta, 1);
     TV_CHECK_EQ_INT(cfg.app_mode, APP_MODE_POSITION);
@@ -252,7 +252,7 @@ static void test_file_errors_named(void)
 
 int main(int argc, char **argv)
 {
-    s_example_path = argc > 1 ? argv[1] : "hal/linux/throttle_linux.conf";
+    s_example_path = argc > 1 ? argv[1] : "firmware/linux_rt/throttle_linux.conf";
     TV_TEST_RUN(test_example_file_parses_to_defaults);
     TV_TEST_RUN(test_values_stored);
     TV_TEST_RUN(test_syntax_errors_named);

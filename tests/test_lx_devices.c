@@ -16,6 +16,8 @@
 
 #include "hal_linux.h"
 #include "lx_adc.h"
+#include "lx_config.h"
+#include "lx_err.h"
 #include "lx_can.h"
 #include "lx_gpio.h"
 #include "lx_pwm.h"
@@ -251,7 +253,7 @@ static void test_hal_init_reports_configuration_errors(void)
                    "can.interface = vcan0\n",
                    s_root, s_root);
     TV_CHECK_EQ_INT(lx_config_parse(text, "t.conf", &cfg, err, sizeof err), TV_OK);
-    TV_CHECK_EQ_INT(hal_linux_configure(&cfg), TV_OK);
+    TV_CHECK_EQ_INT(hal_linux_configure(&cfg.dev), TV_OK);
     TV_CHECK_EQ_INT(hal_init(), TV_ERR_CONFIG);
     TV_CHECK(strstr(hal_linux_error(), "gpio.chip = 'tv-missing-chip'") != NULL);
     /* nothing is open: every HAL call reports it instead of touching a device */

@@ -1,6 +1,6 @@
 /**
  * @file test_rawlog.c
- * @brief Tests of the binary raw-log encoder (firmware/rawlog.h): CRC-32, header and record
+ * @brief Tests of the binary raw-log encoder (firmware/protocols/rawlog.h): CRC-32, header and record
  *        byte layout at the offsets of host_sim/replay/LOG_FORMATS.md, value checks, block assembly.
  *        Exact comparisons throughout: the encoder copies bits, it computes nothing.
  */

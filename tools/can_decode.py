@@ -12,7 +12,7 @@ Both candump output formats are read, line by line, mixed freely:
 Extended ids are 8 hex digits; remote requests (R / "remote request") and CAN FD frames (##) are
 reported as such and not decoded. Lines that are neither are passed over (counted on stderr).
 
-For each known frame the tool checks the protection header of firmware/can_proto.h: CRC-8 SAE
+For each known frame the tool checks the protection header of firmware/protocols/can_proto.h: CRC-8 SAE
 J1850 (poly 0x1D, init 0xFF, xorout 0xFF) over the id (low byte, high byte) and data[1..7],
 reported as crc=ok/BAD, and the 4-bit counter, reported with "jump" when it did not step by 1
 from the previous frame of that id.

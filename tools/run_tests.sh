@@ -50,20 +50,24 @@ run_tidy() {
   rm -f "$out"
   return "$rc"
 }
+# git pathspecs: '*' also matches '/', so 'firmware/*.c' covers every subfolder.
 mapfile -t srcs < <(git ls-files 'firmware/*.c' 'hal/*.c' 'host_sim/*.c' 2>/dev/null || true)
-if ((${#srcs[@]} == 0)); then mapfile -t srcs < <(ls firmware/*.c hal/*.c host_sim/*/*.c 2>/dev/null); fi
-# hal/stm32f4 is Cortex-M code (inline assembly, core registers): analysed below for its own
-# target with newlib's headers, not as host code.
-mapfile -t srcs < <(printf '%s\n' "${srcs[@]}" | grep -v '^hal/stm32f4/')
-mapfile -t m4f_srcs < <(ls hal/stm32f4/*.c 2>/dev/null || true)
+if ((${#srcs[@]} == 0)); then mapfile -t srcs < <(ls firmware/*/*.c hal/*/*.c host_sim/*/*.c 2>/dev/null); fi
+# hal/stm32f4 and firmware/ecu are Cortex-M code (inline assembly, core registers): analysed
+# below for their own target with newlib's headers, not as host code.
+mapfile -t m4f_srcs < <(printf '%s\n' "${srcs[@]}" | grep -E '^(hal/stm32f4|firmware/ecu)/' || true)
+mapfile -t srcs < <(printf '%s\n' "${srcs[@]}" | grep -vE '^(hal/stm32f4|firmware/ecu)/')
+incs=(-Ifirmware/common -Ifirmware/estimator -Ifirmware/app -Ifirmware/protocols -Ifirmware/linux_rt -Ihal
+  -Ihal/linux -Ihost_sim/plant -Ihost_sim/sim -Ihost_sim/replay)
 cppcheck --std=c99 --enable=warning,style,performance,portability --error-exitcode=1 --inline-suppr \
-  --quiet -Ifirmware -Ihal -Ihost_sim/plant -Ihost_sim/sim -Ihost_sim/replay "${srcs[@]}"
-run_tidy "${srcs[@]}" -- -std=c99 -Ifirmware -Ihal -Ihost_sim/plant -Ihost_sim/sim -Ihost_sim/replay
+  --quiet "${incs[@]}" "${srcs[@]}"
+run_tidy "${srcs[@]}" -- -std=c99 "${incs[@]}"
 if ((${#m4f_srcs[@]})); then
+  m4f_incs=(-Ifirmware/common -Ifirmware/estimator -Ifirmware/app -Ifirmware/protocols -Ihal -Ihal/stm32f4)
   m4f_flags=(-std=c99 --target=arm-none-eabi -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16
-    -Ifirmware -Ihal -Ihal/stm32f4 -isystem /usr/lib/arm-none-eabi/include)
+    "${m4f_incs[@]}" -isystem /usr/lib/arm-none-eabi/include)
   cppcheck --std=c99 --enable=warning,style,performance,portability --error-exitcode=1 --inline-suppr \
-    --quiet -Ifirmware -Ihal -Ihal/stm32f4 "${m4f_srcs[@]}"
+    --quiet "${m4f_incs[@]}" "${m4f_srcs[@]}"
   run_tidy "${m4f_srcs[@]}" -- "${m4f_flags[@]}"
 fi
 echo "cppcheck and clang-tidy: clean ($((${#srcs[@]} + ${#m4f_srcs[@]})) files)"

@@ -14,7 +14,7 @@
    95 % chi-square band of an M-run average (half the band's width around its centre: a margin,
    so that the choice stays consistent on other seeds), the one with the smallest velocity RMSE
    wins; if none qualifies, the pair whose ANEES is closest to 3 (in log ratio) wins.
-4. The result is printed as the two #defines of firmware/ekf.h and the R values of
+4. The result is printed as the two #defines of firmware/estimator/ekf.h and the R values of
    ekf_config_default(); the README records the run that set the defaults.
 
 Usage: tools/tune_noise.py [--host-sim PATH] [--seeds M] [--scenario NAME]

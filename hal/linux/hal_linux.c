@@ -6,6 +6,8 @@
 
 #include "hal_linux.h"
 
+#include "lx_err.h"
+
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
@@ -16,7 +18,7 @@
 #include "lx_pwm.h"
 #include "tv_status.h"
 
-static lx_config_t s_cfg;
+static hal_linux_devices_t s_cfg;
 static int s_configured;
 static lx_pwm_t s_pwm;
 static lx_adc_t s_adc;
@@ -34,7 +36,7 @@ static uint64_t mono_ns(void)
     return (uint64_t)ts.tv_sec * 1000000000u + (uint64_t)ts.tv_nsec;
 }
 
-int hal_linux_configure(const lx_config_t *cfg)
+int hal_linux_configure(const hal_linux_devices_t *cfg)
 {
     if (cfg == NULL) {
         return TV_ERR_NULL;

@@ -6,6 +6,9 @@
 #ifndef LX_ERR_H
 #define LX_ERR_H
 
+/** Longest error message written by the lx_ modules [bytes]. */
+#define LX_ERR_LEN 512u
+
 #include <stddef.h>
 
 #ifdef __cplusplus

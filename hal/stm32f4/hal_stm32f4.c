@@ -299,8 +299,7 @@ void stm32f4_control_start(void)
     stm32f4_irq_restore(primask);
 }
 
-void TIM2_IRQHandler(void);
-void TIM2_IRQHandler(void)
+void stm32f4_control_irq_begin(void)
 {
     /* TIM2 counts microseconds from its overflow: its value now is the entry latency. */
     const uint32_t latency_us = TIM2->CNT;
@@ -308,7 +307,10 @@ void TIM2_IRQHandler(void)
     if (latency_us > s_status.tick_latency_max_us && latency_us < STM32F4_CONTROL_PERIOD_US) {
         s_status.tick_latency_max_us = latency_us;
     }
-    stm32f4_control_tick();
+}
+
+void stm32f4_control_irq_end(void)
+{
     if ((TIM2->SR & TIM_SR_UIF) != 0u) {
         ++s_status.deadline_missed; /* the next period began while this tick ran */
     }

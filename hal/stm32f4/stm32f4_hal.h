@@ -86,10 +86,16 @@ void stm32f4_hal_config_default(stm32f4_hal_config_t *cfg);
 int stm32f4_hal_init(const stm32f4_hal_config_t *cfg);
 
 /**
- * Called by the 1 kHz control interrupt (TIM2). Defined by the application image (ecu_main.c):
- * the link binds it, as it binds hal.h to this file.
+ * The 1 kHz control interrupt (TIM2) belongs to the application image, not to this HAL: the
+ * image defines TIM2_IRQHandler (overriding the weak default of the vector table) as
+ *     stm32f4_control_irq_begin(); <the application's 1 ms step>; stm32f4_control_irq_end();
+ * so the HAL never calls back into the application. begin acknowledges the interrupt and records
+ * the entry latency (stm32f4_status_t::tick_latency_max_us); end counts a missed deadline when
+ * the next period began while the step ran (stm32f4_status_t::deadline_missed).
  */
-void stm32f4_control_tick(void);
+void stm32f4_control_irq_begin(void);
+/** See stm32f4_control_irq_begin(). */
+void stm32f4_control_irq_end(void);
 
 /** Start TIM1 and TIM2 together (phase-locked) and enable the control interrupt. */
 void stm32f4_control_start(void);

@@ -7,7 +7,7 @@
  *        tracks, supply divider, ADC) with seeded noise.
  *
  * This model is deliberately SEPARATE from, and more faithful than, the estimator's discrete
- * model (firmware/tv_model.h): the estimator is tested against it. Double precision, C99, no
+ * model (firmware/estimator/tv_model.h): the estimator is tested against it. Double precision, C99, no
  * heap, no globals; all state lives in a caller-owned plant_t.
  *
  * STATES (plate side of the gearbox, SI): armature current i [A], plate velocity w [rad/s],

@@ -528,10 +528,10 @@ int params_write(FILE *f, const app_config_t *cfg, const params_t *p)
         char rng[96];
         double v;
         if (k == K_R || k == K_QU || k == K_CAL_CUR_OFF || k == K_LIM_CUR_MIN) {
-            fputs(k == K_R ? "\n# estimator model (firmware/tv_model.h)\n"
-                  : k == K_QU ? "\n# estimator noise: process-noise densities and measurement VARIANCES (firmware/ekf.h)\n"
-                  : k == K_CAL_CUR_OFF ? "\n# count calibration (firmware/app.h, app_calib_t); replay takes it from the log unless set here\n"
-                                       : "\n# plausibility limits (firmware/app.h, app_limits_t)\n",
+            fputs(k == K_R ? "\n# estimator model (firmware/estimator/tv_model.h)\n"
+                  : k == K_QU ? "\n# estimator noise: process-noise densities and measurement VARIANCES (firmware/estimator/ekf.h)\n"
+                  : k == K_CAL_CUR_OFF ? "\n# count calibration (firmware/app/app.h, app_calib_t); replay takes it from the log unless set here\n"
+                                       : "\n# plausibility limits (firmware/app/app.h, app_limits_t)\n",
                   f);
         }
         if (rf != NULL) {

@@ -1,7 +1,7 @@
 /**
  * @file rawlog_read.h
  * @brief Streaming reader of raw ADC logs in both formats of host_sim/replay/LOG_FORMATS.md: the CSV
- *        text format and the binary TVRAWLOG format (firmware/rawlog.h).
+ *        text format and the binary TVRAWLOG format (firmware/protocols/rawlog.h).
  *
  * Constant memory whatever the input: one fixed input buffer (RLR_BUF_SIZE), CSV lines of at
  * most RLR_LINE_MAX bytes handled in place, one binary block (RAWLOG_BLOCK_SIZE_MAX). No heap;

@@ -2,7 +2,7 @@
  * @file rawlog_write.h
  * @brief Streaming writer of raw ADC logs to a stdio stream, in either format of
  *        host_sim/replay/LOG_FORMATS.md: CSV text, or binary TVRAWLOG blocks through the firmware
- *        encoder (firmware/rawlog.h). Constant memory: one block buffer.
+ *        encoder (firmware/protocols/rawlog.h). Constant memory: one block buffer.
  */
 #ifndef RAWLOG_WRITE_H
 #define RAWLOG_WRITE_H

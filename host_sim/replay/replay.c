@@ -250,7 +250,7 @@ static int write_header(const rlr_t *r, const replay_options_t *o)
             o->params_name != NULL ? ", parameters " : "", o->params_name != NULL ? o->params_name : "");
     fputs("# units: t_us [us]; duty [-1, 1]; *_A [A]; *_rad_s [rad/s]; *_rad [rad]; *_V [V]; sigma = standard "
           "deviation; innov = measurement - prediction (empty: channel not used); nis = normalised innovation "
-          "squared, nis_dof channels (empty: no correction); faults = APP_FAULT_* mask (firmware/app.h); "
+          "squared, nis_dof channels (empty: no correction); faults = APP_FAULT_* mask (firmware/app/app.h); "
           "ekf_status = tv_status_t of the step; missing_samples predicted across before this sample\n",
           f);
     return ferror(f) ? TV_ERR_IO : TV_OK;

@@ -31,7 +31,7 @@ log="$work/m4f_build_boot.log"
 cd "$work"
 # Semihosting prints go to stderr with the -d log; split them by prefix.
 timeout 60 "$qemu" -M netduinoplus2 -nographic -monitor none -serial none \
-  -semihosting-config enable=on,target=native -kernel "$m4f/hal/stm32f4/ecu_trace.elf" \
+  -semihosting-config enable=on,target=native -kernel "$m4f/firmware/ecu/ecu_trace.elf" \
   -d int -D ecu_boot_qemu.log 2>ecu_boot.txt
 cat ecu_boot.txt
 fail=0

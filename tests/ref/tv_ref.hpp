@@ -3,8 +3,8 @@
  * @brief Independent C++/Eigen reference of the throttle-valve prediction map and EKF, used only by
  *        tests (tests/test_eigen_crosscheck*.cpp) and by the benchmark tests/bench_ref.cpp.
  *
- * Written from the specifications in the doc comments of firmware/tv_model.h and firmware/ekf.h,
- * NOT from firmware/tv_model.c or firmware/ekf.c, so that it checks the C code instead of
+ * Written from the specifications in the doc comments of firmware/estimator/tv_model.h and firmware/estimator/ekf.h,
+ * NOT from firmware/estimator/tv_model.c or firmware/estimator/ekf.c, so that it checks the C code instead of
  * repeating it. Differences from the C code by construction:
  *   - everything is double and Eigen fixed-size matrices (Matrix3d, Vector3d, RowVector3d);
  *   - the map is one template, step<S>(), evaluated with S = double for values and with
@@ -40,7 +40,7 @@ template <class D> inline double val(const Eigen::AutoDiffScalar<D>& v) { return
 
 /**
  * Model parameters, SI, plate side. Defaults are those documented at tvm_params_default() in
- * firmware/tv_model.h: paper Table 1 plus the project's stop, smoothing and sub-step choices.
+ * firmware/estimator/tv_model.h: paper Table 1 plus the project's stop, smoothing and sub-step choices.
  */
 struct Params {
     double R_ohm = 4.3;

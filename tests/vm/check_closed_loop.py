@@ -23,7 +23,7 @@ Tolerances (each one stated where it is checked):
   moving (12 V / 5 Hz sine, up to ~16 rad/s, hitting the closed stop): RMS bounds of a few
       sigma. The VM runs with -icount (guest time = instructions executed), so its timing is
       deterministic: the controller wakes within microseconds and reads the sample the plant
-      wrote 0.9 ms earlier. What remains is the filter's model (firmware/tv_model.h) against
+      wrote 0.9 ms earlier. What remains is the filter's model (firmware/estimator/tv_model.h) against
       the high-fidelity plant (host_sim/plant/plant.h: stick-slip, Hunt-Crossley stops) and the
       plant taking up a new duty at its next 1 ms step. Filter sigma while moving: current
       0.010 A, velocity 0.06 rad/s, angle 1.1e-4 rad. Bounds: current 0.05 A (5 sigma),

@@ -9,7 +9,7 @@ b=$1
 shift
 what=${*:-size heap stack bench}
 here=$(cd "$(dirname "$0")" && pwd)
-ecu=$b/hal/stm32f4/ecu.elf
+ecu=$b/firmware/ecu/ecu.elf
 
 for w in $what; do
 case $w in

@@ -9,7 +9,7 @@
  * out-of-range values and missing required keys are errors, reported as
  *     <file>:<line>: <key> = '<value>': <reason>      or      <file>: missing required key '<key>'
  * The keys, their types, ranges and defaults are in lx_config.c (table s_keys) and in the
- * example hal/linux/throttle_linux.conf, which lists every key.
+ * example firmware/linux_rt/throttle_linux.conf, which lists every key.
  *
  * This module only checks syntax and ranges; whether a path exists, a chip has that line or an
  * interface is a CAN interface is checked when the devices are opened (lx_pwm, lx_adc, lx_gpio,
@@ -22,17 +22,13 @@
 #include <stdint.h>
 
 #include "can_proto.h"
+#include "hal_linux.h"
+#include "lx_err.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/** Longest path or device name stored [bytes, with the terminating 0]. */
-#define LX_PATH_LEN 256u
-/** Longest CAN interface name [bytes, with the terminating 0] (IFNAMSIZ). */
-#define LX_IFNAME_LEN 16u
-/** Longest error message written by the lx_ modules [bytes]. */
-#define LX_ERR_LEN 512u
 
 /** Everything the configuration file sets. */
 typedef struct {
@@ -42,24 +38,8 @@ typedef struct {
     int32_t rt_lock_memory;   /**< rt.lock_memory: 1 = mlockall(MCL_CURRENT | MCL_FUTURE) (required for RT) */
     uint32_t rt_duration_s;   /**< rt.duration_s: stop cleanly after this long; 0 = until SIGINT/SIGTERM */
     uint32_t rt_max_io_errors; /**< rt.max_io_errors: consecutive failed ticks that end the program */
-    /* PWM (sysfs PWM class) */
-    char pwm_chip[LX_PATH_LEN];   /**< pwm.chip: e.g. /sys/class/pwm/pwmchip0 */
-    uint32_t pwm_channel_a;       /**< pwm.channel_a: channel driving the bridge for duty > 0 */
-    uint32_t pwm_channel_b;       /**< pwm.channel_b: channel driving the bridge for duty < 0 */
-    uint32_t pwm_period_ns;       /**< pwm.period_ns: PWM period [ns] */
-    /* ADC (IIO) */
-    char adc_device[LX_PATH_LEN]; /**< adc.device: e.g. /sys/bus/iio/devices/iio:device0 */
-    uint32_t adc_channel[4];      /**< adc.channel.{current,tps1,tps2,supply}: N of in_voltageN_raw */
-    uint32_t adc_max_counts;      /**< adc.max_counts: largest valid raw value (4095 for 12 bits) */
-    /* GPIO (libgpiod) */
-    char gpio_chip[LX_PATH_LEN];  /**< gpio.chip: name, number, label or /dev path (gpiod_chip_open_lookup) */
-    char gpio_consumer[32];       /**< gpio.consumer: consumer label shown by gpioinfo */
-    uint32_t gpio_enable_line;    /**< gpio.bridge_enable.line: offset on the chip */
-    int32_t gpio_enable_active_low; /**< gpio.bridge_enable.active_low: 1 = low enables */
-    uint32_t gpio_fault_line;     /**< gpio.driver_fault.line: offset on the chip */
-    int32_t gpio_fault_active_low; /**< gpio.driver_fault.active_low: 1 = low means fault (nFAULT pins) */
-    /* CAN (SocketCAN) */
-    char can_interface[LX_IFNAME_LEN]; /**< can.interface: e.g. can0, vcan0 */
+    hal_linux_devices_t dev;      /**< pwm.*, adc.*, gpio.*, can.interface: the devices the HAL opens */
+    /* CAN protocol */
     can_proto_config_t can;       /**< can.cmd_timeout_ms, can.max_counter_delta, can.period_ms.* */
     /* start-up control (commands override it at run time) */
     int32_t app_mode;             /**< app.mode: off, sine, steps, chirp, position (app_mode_t) */

@@ -1,6 +1,6 @@
 /**
  * @file throttle_cmd.c
- * @brief throttle_cmd: the bench-side commander of the CAN protocol (firmware/can_proto.h). Sends
+ * @brief throttle_cmd: the bench-side commander of the CAN protocol (firmware/protocols/can_proto.h). Sends
  *        TV_CMD_CONTROL (the heartbeat) every --rate-ms and TV_CMD_EXCITATION with every 5th
  *        of them, each with its rolling counter and CRC, over SocketCAN. cansend cannot do this
  *        (it would need the CRC by hand), so this tool is what a bench script uses.
@@ -375,7 +375,7 @@ int main(int argc, char **argv)
         hal_can_frame_t probe;
         if (can_proto_encode_control(&st.ctl, 0u, &probe) != TV_OK ||
             can_proto_encode_excitation(&st.exc, 0u, &probe) != TV_OK) {
-            fprintf(stderr, "throttle_cmd: a value is outside its range (see firmware/can_proto.h)\n");
+            fprintf(stderr, "throttle_cmd: a value is outside its range (see firmware/protocols/can_proto.h)\n");
             return 2;
         }
     }

@@ -3,7 +3,7 @@
  * @brief The throttle ECU image for STM32F405/407: clock set-up, application and CAN protocol
  *        node, HAL, watchdog, then the 1 kHz control interrupt does the work:
  *
- *   TIM2 update (1 kHz, phase-locked to the PWM)  -> stm32f4_control_tick():
+ *   TIM2 update (1 kHz, phase-locked to the PWM)  -> TIM2_IRQHandler() -> ecu_control_tick():
  *       app_tick()            ADC -> app_step() -> PWM / bridge enable, timed with the DWT
  *       CAN commands in       can_proto_node_receive() for each queued frame
  *       watchdog of commands  can_proto_node_update()
@@ -60,7 +60,7 @@ static void force_off(void)
     }
 }
 
-void stm32f4_control_tick(void)
+static void ecu_control_tick(void)
 {
     hal_can_frame_t frames[CAN_PROTO_N_TX];
     hal_can_frame_t f;
@@ -243,4 +243,15 @@ int main(void)
         }
         __asm__ volatile("wfi");
     }
+}
+
+/* The control interrupt is the application's (stm32f4_hal.h): the HAL acknowledges it and keeps
+ * the latency and deadline statistics, the step is ours. Overrides the vector table's weak
+ * default. */
+void TIM2_IRQHandler(void);
+void TIM2_IRQHandler(void)
+{
+    stm32f4_control_irq_begin();
+    ecu_control_tick();
+    stm32f4_control_irq_end();
 }

@@ -97,7 +97,7 @@ static int tick(void *vctx, const rt_loop_stats_t *st)
 static void usage(void)
 {
     fprintf(stderr, "usage: throttle_linux -c CONFIG_FILE [--check]\n"
-                    "  see hal/linux/README.md and hal/linux/throttle_linux.conf\n");
+                    "  see hal/linux/README.md and firmware/linux_rt/throttle_linux.conf\n");
 }
 
 static void summary(const rt_loop_stats_t *st, const ctl_t *c)
@@ -171,7 +171,7 @@ int main(int argc, char **argv)
     sigaddset(&sigs, SIGTERM);
     (void)pthread_sigmask(SIG_BLOCK, &sigs, NULL);
 
-    (void)hal_linux_configure(&cfg);
+    (void)hal_linux_configure(&cfg.dev);
     if (hal_init() != TV_OK) {
         fprintf(stderr, "throttle_linux: %s\n", hal_linux_error());
         return 1;

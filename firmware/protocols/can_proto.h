@@ -117,7 +117,7 @@
  * latched faults). With cmd_timeout_ms == 0 (standalone bench use) there is no watchdog and the
  * configured mode runs from start; commands are still accepted.
  *
- * Typical use on a platform (hal/linux/main.c does exactly this), once per 1 ms tick:
+ * Typical use on a platform (firmware/linux_rt/main.c does exactly this), once per 1 ms tick:
  *   can_proto_node_init(&node, &cfg, &app);                    once, after app_init()
  *   rc = app_tick(&app, &out);                                  every tick
  *   while (n++ < CAN_PROTO_RX_MAX_PER_TICK && hal_can_receive(&f) == 1)

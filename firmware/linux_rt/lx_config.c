@@ -36,23 +36,23 @@ static const key_desc_t s_keys[] = {
     NUM("rt.lock_memory", K_BOOL, 0, 1, rt_lock_memory, 0),
     NUM("rt.duration_s", K_UINT, 0, 1e7, rt_duration_s, 0),
     NUM("rt.max_io_errors", K_UINT, 1, 1000, rt_max_io_errors, 0),
-    STR("pwm.chip", pwm_chip, 1),
-    NUM("pwm.channel_a", K_UINT, 0, 1023, pwm_channel_a, 1),
-    NUM("pwm.channel_b", K_UINT, 0, 1023, pwm_channel_b, 1),
-    NUM("pwm.period_ns", K_UINT, 1000, 1e9, pwm_period_ns, 0),
-    STR("adc.device", adc_device, 1),
-    NUM("adc.channel.current", K_UINT, 0, 255, adc_channel[0], 0),
-    NUM("adc.channel.tps1", K_UINT, 0, 255, adc_channel[1], 0),
-    NUM("adc.channel.tps2", K_UINT, 0, 255, adc_channel[2], 0),
-    NUM("adc.channel.supply", K_UINT, 0, 255, adc_channel[3], 0),
-    NUM("adc.max_counts", K_UINT, 1, 65535, adc_max_counts, 0),
-    STR("gpio.chip", gpio_chip, 1),
-    STR("gpio.consumer", gpio_consumer, 0),
-    NUM("gpio.bridge_enable.line", K_UINT, 0, 65535, gpio_enable_line, 1),
-    NUM("gpio.bridge_enable.active_low", K_BOOL, 0, 1, gpio_enable_active_low, 0),
-    NUM("gpio.driver_fault.line", K_UINT, 0, 65535, gpio_fault_line, 1),
-    NUM("gpio.driver_fault.active_low", K_BOOL, 0, 1, gpio_fault_active_low, 0),
-    STR("can.interface", can_interface, 1),
+    STR("pwm.chip", dev.pwm_chip, 1),
+    NUM("pwm.channel_a", K_UINT, 0, 1023, dev.pwm_channel_a, 1),
+    NUM("pwm.channel_b", K_UINT, 0, 1023, dev.pwm_channel_b, 1),
+    NUM("pwm.period_ns", K_UINT, 1000, 1e9, dev.pwm_period_ns, 0),
+    STR("adc.device", dev.adc_device, 1),
+    NUM("adc.channel.current", K_UINT, 0, 255, dev.adc_channel[0], 0),
+    NUM("adc.channel.tps1", K_UINT, 0, 255, dev.adc_channel[1], 0),
+    NUM("adc.channel.tps2", K_UINT, 0, 255, dev.adc_channel[2], 0),
+    NUM("adc.channel.supply", K_UINT, 0, 255, dev.adc_channel[3], 0),
+    NUM("adc.max_counts", K_UINT, 1, 65535, dev.adc_max_counts, 0),
+    STR("gpio.chip", dev.gpio_chip, 1),
+    STR("gpio.consumer", dev.gpio_consumer, 0),
+    NUM("gpio.bridge_enable.line", K_UINT, 0, 65535, dev.gpio_enable_line, 1),
+    NUM("gpio.bridge_enable.active_low", K_BOOL, 0, 1, dev.gpio_enable_active_low, 0),
+    NUM("gpio.driver_fault.line", K_UINT, 0, 65535, dev.gpio_fault_line, 1),
+    NUM("gpio.driver_fault.active_low", K_BOOL, 0, 1, dev.gpio_fault_active_low, 0),
+    STR("can.interface", dev.can_interface, 1),
     NUM("can.cmd_timeout_ms", K_UINT, 0, CAN_PROTO_TIMEOUT_MAX_MS, can.cmd_timeout_ms, 0),
     NUM("can.max_counter_delta", K_U8, 1, 14, can.max_counter_delta, 0),
     NUM("can.period_ms.est_state", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_EST_STATE], 0),
@@ -102,13 +102,13 @@ void lx_config_default(lx_config_t *cfg)
     cfg->rt_lock_memory = 1;
     cfg->rt_duration_s = 0u;
     cfg->rt_max_io_errors = 10u;
-    cfg->pwm_period_ns = 50000u;
-    cfg->adc_channel[0] = 0u;
-    cfg->adc_channel[1] = 1u;
-    cfg->adc_channel[2] = 2u;
-    cfg->adc_channel[3] = 3u;
-    cfg->adc_max_counts = 4095u;
-    (void)snprintf(cfg->gpio_consumer, sizeof cfg->gpio_consumer, "%s", "throttle");
+    cfg->dev.pwm_period_ns = 50000u;
+    cfg->dev.adc_channel[0] = 0u;
+    cfg->dev.adc_channel[1] = 1u;
+    cfg->dev.adc_channel[2] = 2u;
+    cfg->dev.adc_channel[3] = 3u;
+    cfg->dev.adc_max_counts = 4095u;
+    (void)snprintf(cfg->dev.gpio_consumer, sizeof cfg->dev.gpio_consumer, "%s", "throttle");
     can_proto_config_default(&cfg->can);
     cfg->app_mode = (int32_t)APP_MODE_OFF;
     cfg->app_amplitude_V = 12.0;
@@ -242,23 +242,23 @@ static int check_conflicts(const lx_config_t *cfg, const char *name, char *err, 
     int j;
     static const char *const adc_keys[4] = {"adc.channel.current", "adc.channel.tps1", "adc.channel.tps2",
                                             "adc.channel.supply"};
-    if (cfg->pwm_channel_a == cfg->pwm_channel_b) {
+    if (cfg->dev.pwm_channel_a == cfg->dev.pwm_channel_b) {
         lx_err_set(err, err_len, "%s: pwm.channel_a and pwm.channel_b are both %u (the bridge needs two channels)", name,
-                (unsigned)cfg->pwm_channel_a);
+                (unsigned)cfg->dev.pwm_channel_a);
         return TV_ERR_CONFIG;
     }
     for (i = 0; i < 4; ++i) {
         for (j = i + 1; j < 4; ++j) {
-            if (cfg->adc_channel[i] == cfg->adc_channel[j]) {
+            if (cfg->dev.adc_channel[i] == cfg->dev.adc_channel[j]) {
                 lx_err_set(err, err_len, "%s: %s and %s are both %u", name, adc_keys[i], adc_keys[j],
-                        (unsigned)cfg->adc_channel[i]);
+                        (unsigned)cfg->dev.adc_channel[i]);
                 return TV_ERR_CONFIG;
             }
         }
     }
-    if (cfg->gpio_enable_line == cfg->gpio_fault_line) {
+    if (cfg->dev.gpio_enable_line == cfg->dev.gpio_fault_line) {
         lx_err_set(err, err_len, "%s: gpio.bridge_enable.line and gpio.driver_fault.line are both %u", name,
-                (unsigned)cfg->gpio_enable_line);
+                (unsigned)cfg->dev.gpio_enable_line);
         return TV_ERR_CONFIG;
     }
     return TV_OK;
@@ -414,5 +414,5 @@ void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
     app->calib.tps2_counts_at_zero = (tv_real_t)cfg->calib_tps2_counts_at_zero;
     app->calib.tps2_rad_per_count = (tv_real_t)cfg->calib_tps2_rad_per_count;
     app->calib.supply_V_per_count = (tv_real_t)cfg->calib_supply_V_per_count;
-    app->calib.adc_max_counts = (uint16_t)cfg->adc_max_counts;
+    app->calib.adc_max_counts = (uint16_t)cfg->dev.adc_max_counts;
 }
