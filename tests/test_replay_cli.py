@@ -228,6 +228,39 @@ def main():
     expect([exe("replay"), write("gap.csv", csv_log(good_rows(3) + good_rows(2, 6000)))], 0,
            "gap.csv: line 6: 3 samples missing before t_us 6000 (predicted across)", "missing samples: 3")
 
+    # --- issue 9 regressions ----------------------------------------------------------------
+    # an output that is the input is refused before anything is written (it used to cut a
+    # 3,000-record log to 631 records, or empty it), whatever the spelling of the path
+    write("same.csv", csv_log(good_rows(3000)))
+    before = open(path("same.csv"), "rb").read()
+    expect([exe("log_convert"), "--to", "csv", "-o", path("same.csv"), path("same.csv")], 2,
+           "is the input log", "refusing to overwrite it")
+    expect([exe("replay"), "-o", path("same.csv"), path("same.csv")], 2, "is the input log")
+    os.symlink(path("same.csv"), path("same_link.csv"))
+    expect([exe("replay"), "-o", path("same_link.csv"), path("same.csv")], 2, "is the input log")
+    expect([exe("log_convert"), "-o", os.path.join(WORK, ".", "same.csv"), path("same.csv")], 2, "is the input log")
+    check(open(path("same.csv"), "rb").read() == before, "a refused output leaves the input byte for byte")
+    # a usage error is one line and a hint, not the whole help
+    for prog in ("host_sim", "replay", "log_convert"):
+        _, err = expect([exe(prog), "--bogus"], 2, "unknown option '--bogus'", "try '%s --help'" % prog)
+        check(len(err.strip().splitlines()) == 2, "%s: a usage error prints two lines, got:\n%s" % (prog, err))
+    expect([exe("host_sim"), "--qu", "1", "--qu", "2"], 2, "option --qu given twice")
+    expect([exe("replay"), "--r-angle", "0"], 2, "is not > 0 (a variance)")
+    expect([exe("log_convert"), "--block-records", "0x10"], 2, "is not an integer in 1..")
+    # host_sim --out naming a file: the real reason, not "Success"
+    write("afile", "x")
+    _, err = expect([exe("host_sim"), "--duration", "0.1", "--out", path("afile")], 1,
+                    "cannot create output directory", "Not a directory")
+    check("Success" not in err, "host_sim --out FILE does not say Success")
+    # the same invalid parameter file gives the same exit code (3) in host_sim and replay
+    write("mcms.txt", "model.Mc_Nm = 0.4\nmodel.Ms_Nm = 0.3\n")
+    expect([exe("host_sim"), "--params", path("mcms.txt"), "--duration", "0.1", "--out", path("o")], 3,
+           "mcms.txt:1", "must be <=")
+    expect([exe("replay"), "--params", path("mcms.txt"), path("same.csv")], 3, "mcms.txt:1", "must be <=")
+    # --print-params: shortest round-trip numbers
+    out, _ = expect([exe("host_sim"), "--print-params"], 0)
+    check(b"model.R_ohm = 4.3 " in out and b"4.2999" not in out, "--print-params prints 4.3, not 4.2999999999999998")
+
     print("%d checks, %d failed" % (CHECKS[0], len(FAILED)))
     return 1 if FAILED else 0
 

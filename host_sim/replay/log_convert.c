@@ -11,11 +11,14 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "rawlog_read.h"
 #include "rawlog_write.h"
 #include "tv_status.h"
 
 static const char *s_prog = "log_convert";
+
+#define usage_error(...) cli_usage_error(s_prog, __VA_ARGS__)
 
 static rlr_t s_reader;
 static rlw_t s_writer;
@@ -43,14 +46,6 @@ static void usage(FILE *f)
             s_prog, RAWLOG_BLOCK_RECORDS_MAX, RAWLOG_BLOCK_RECORDS_DEFAULT);
 }
 
-static int usage_error(const char *fmt, const char *a, const char *b)
-{
-    fprintf(stderr, "%s: ", s_prog);
-    fprintf(stderr, fmt, a, b);
-    fprintf(stderr, "\n(%s --help shows the options)\n", s_prog);
-    return RLR_EXIT_USAGE;
-}
-
 int main(int argc, char **argv)
 {
     rlr_format_t from = RLR_FMT_AUTO;
@@ -67,6 +62,8 @@ int main(int argc, char **argv)
     int exit_code = RLR_EXIT_OK;
     int rc;
     int k;
+    static const char *const takes_value[] = {"--from", "--to", "--block-records", "--on-error", "-o", "--out",
+                                              NULL};
 
     for (k = 1; k < argc; ++k) {
         const char *a = argv[k];
@@ -82,12 +79,11 @@ int main(int argc, char **argv)
             in_path = a;
             continue;
         }
-        if (strcmp(a, "--from") != 0 && strcmp(a, "--to") != 0 && strcmp(a, "--block-records") != 0 &&
-            strcmp(a, "--on-error") != 0 && strcmp(a, "-o") != 0 && strcmp(a, "--out") != 0) {
-            return usage_error("unknown option '%s'%s", a, "");
+        if (!cli_is_one_of(a, takes_value)) {
+            return usage_error("unknown option '%s'", a);
         }
         if (v == NULL) {
-            return usage_error("option %s needs a value%s", a, "");
+            return usage_error("option %s needs a value", a);
         }
         ++k;
         if (strcmp(a, "--from") == 0) {
@@ -99,13 +95,11 @@ int main(int argc, char **argv)
                 return usage_error("option %s: '%s' is not csv or bin", a, v);
             }
         } else if (strcmp(a, "--block-records") == 0) {
-            char *end = NULL;
-            errno = 0;
-            block_records = strtoul(v, &end, 10);
-            if (end == v || *end != '\0' || errno != 0 || v[0] == '-' || block_records < 1u ||
-                block_records > RAWLOG_BLOCK_RECORDS_MAX) {
-                return usage_error("option %s: '%s' is not an integer in 1..1024", a, v);
+            unsigned long long n = 0u;
+            if (cli_parse_u64(v, &n) != 0 || n < 1u || n > RAWLOG_BLOCK_RECORDS_MAX) {
+                return usage_error("option %s: '%s' is not an integer in 1..%u", a, v, RAWLOG_BLOCK_RECORDS_MAX);
             }
+            block_records = (unsigned long)n;
         } else if (strcmp(a, "--on-error") == 0) {
             if (strcmp(v, "stop") == 0 || strcmp(v, "skip") == 0) {
                 skip = strcmp(v, "skip") == 0;
@@ -117,6 +111,11 @@ int main(int argc, char **argv)
         }
     }
 
+    if (cli_same_file(in_path, out_path)) {
+        fprintf(stderr, "%s: the output %s is the input log %s: refusing to overwrite it\n", s_prog, out_path,
+                in_path);
+        return RLR_EXIT_USAGE;
+    }
     if (in_path == NULL || strcmp(in_path, "-") == 0) {
         in = stdin;
         in_path = "<stdin>";

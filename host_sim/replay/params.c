@@ -511,6 +511,18 @@ int params_apply(const params_t *p, app_config_t *cfg, char *err, size_t cap)
     return TV_OK;
 }
 
+/* The shortest %.Ng (N = 1..17) that reads back as exactly v: 4.3, not 4.2999999999999998. */
+static void shortest_g(char *out, size_t cap, double v)
+{
+    int prec;
+    for (prec = 1; prec <= 17; ++prec) {
+        (void)snprintf(out, cap, "%.*g", prec, v);
+        if (strtod(out, NULL) == v) {
+            return;
+        }
+    }
+}
+
 int params_write(FILE *f, const app_config_t *cfg, const params_t *p)
 {
     app_config_t c;
@@ -526,6 +538,7 @@ int params_write(FILE *f, const app_config_t *cfg, const params_t *p)
         const tv_real_t *rf = real_field(&c, k);
         const uint16_t *uf = u16_field(&c, k);
         char rng[96];
+        char num[32];
         double v;
         if (k == K_R || k == K_QU || k == K_CAL_CUR_OFF || k == K_LIM_CUR_MIN) {
             fputs(k == K_R ? "\n# estimator model (firmware/estimator/tv_model.h)\n"
@@ -546,7 +559,8 @@ int params_write(FILE *f, const app_config_t *cfg, const params_t *p)
             v = p != NULL && p->line[K_QT] != 0u ? p->value[K_QT] : (double)EKF_DEFAULT_QT_NM2_S;
         }
         range_text(k, rng, sizeof rng);
-        fprintf(f, "%s = %.17g    # %s\n", s_keys[k].name, v, rng);
+        shortest_g(num, sizeof num, v);
+        fprintf(f, "%s = %s    # %s\n", s_keys[k].name, num, rng);
     }
     return ferror(f) ? TV_ERR_IO : TV_OK;
 }

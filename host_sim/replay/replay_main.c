@@ -11,11 +11,14 @@
 #include <string.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "params.h"
 #include "replay.h"
 #include "tv_status.h"
 
 static const char *s_prog = "replay";
+
+#define usage_error(...) cli_usage_error(s_prog, __VA_ARGS__)
 
 /* The reader and the parameters are large: static, one run per process. */
 static rlr_t s_reader;
@@ -62,30 +65,6 @@ static void usage(FILE *f)
             s_prog, TV_REAL_IS_DOUBLE ? "double" : "float", REPLAY_MESSAGES_DEFAULT);
 }
 
-static int usage_error(const char *fmt, const char *a, const char *b)
-{
-    fprintf(stderr, "%s: ", s_prog);
-    fprintf(stderr, fmt, a, b);
-    fprintf(stderr, "\n(%s --help shows the options)\n", s_prog);
-    return RLR_EXIT_USAGE;
-}
-
-static int parse_double(const char *s, double *out)
-{
-    char *end = NULL;
-    double v;
-    if (s == NULL || *s == '\0') {
-        return -1;
-    }
-    errno = 0;
-    v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || !(v == v) || v - v != 0.0) {
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
 int main(int argc, char **argv)
 {
     replay_options_t opt;
@@ -102,11 +81,13 @@ int main(int argc, char **argv)
     FILE *out = NULL;
     char err[PARAMS_MSG_MAX];
     /* overrides, applied after the file */
-    const char *ov_key[5];
-    double ov_val[5];
-    int n_ov = 0;
+    cli_noise_overrides_t ov;
+    static const char *const takes_value[] = {"--format", "-o", "--out", "--setup", "--params", "--qu", "--qT",
+                                              "--r-current", "--r-angle", "--r-velocity", "--start", "--stop",
+                                              "--on-error", "--max-messages", NULL};
 
     replay_options_default(&opt);
+    memset(&ov, 0, sizeof ov);
     for (k = 1; k < argc; ++k) {
         const char *a = argv[k];
         const char *v = k + 1 < argc ? argv[k + 1] : NULL;
@@ -142,15 +123,11 @@ int main(int argc, char **argv)
             in_path = a;
             continue;
         }
-        if (strcmp(a, "--format") != 0 && strcmp(a, "-o") != 0 && strcmp(a, "--out") != 0 &&
-            strcmp(a, "--setup") != 0 && strcmp(a, "--params") != 0 && strcmp(a, "--qu") != 0 &&
-            strcmp(a, "--qT") != 0 && strcmp(a, "--r-current") != 0 && strcmp(a, "--r-angle") != 0 &&
-            strcmp(a, "--r-velocity") != 0 && strcmp(a, "--start") != 0 && strcmp(a, "--stop") != 0 &&
-            strcmp(a, "--on-error") != 0 && strcmp(a, "--max-messages") != 0) {
-            return usage_error("unknown option '%s'%s", a, "");
+        if (!cli_is_one_of(a, takes_value)) {
+            return usage_error("unknown option '%s'", a);
         }
         if (v == NULL) {
-            return usage_error("option %s needs a value%s", a, "");
+            return usage_error("option %s needs a value", a);
         }
         ++k;
         if (strcmp(a, "--format") == 0) {
@@ -177,8 +154,13 @@ int main(int argc, char **argv)
             } else {
                 return usage_error("option %s: '%s' is not stop or skip", a, v);
             }
+        } else if (cli_noise_index(a) >= 0) {
+            rc = cli_noise_set(s_prog, &ov, a, v);
+            if (rc != 0) {
+                return rc;
+            }
         } else {
-            if (parse_double(v, &d) != 0) {
+            if (cli_parse_double(v, &d) != 0) {
                 return usage_error("option %s: '%s' is not a finite number", a, v);
             }
             if (strcmp(a, "--start") == 0 || strcmp(a, "--stop") == 0) {
@@ -192,32 +174,16 @@ int main(int argc, char **argv)
                     opt.has_stop = 1;
                     opt.stop_s = d;
                 }
-            } else if (strcmp(a, "--max-messages") == 0) {
+            } else {
                 if (d < 0.0 || d > 1e9 || d != (double)(long)d) {
                     return usage_error("option %s: '%s' is not an integer in 0..1e9", a, v);
                 }
                 opt.max_messages = (unsigned)d;
-            } else {
-                ov_key[n_ov] = strcmp(a, "--qu") == 0         ? "ekf.qu_V2_s"
-                               : strcmp(a, "--qT") == 0        ? "ekf.qT_Nm2_s"
-                               : strcmp(a, "--r-current") == 0 ? "ekf.r_current_A2"
-                               : strcmp(a, "--r-angle") == 0   ? "ekf.r_angle_rad2"
-                                                               : "ekf.r_velocity_rad2_s2";
-                ov_val[n_ov] = d;
-                {
-                    int j;
-                    for (j = 0; j < n_ov; ++j) {
-                        if (strcmp(ov_key[j], ov_key[n_ov]) == 0) {
-                            return usage_error("option %s given twice%s", a, "");
-                        }
-                    }
-                }
-                ++n_ov;
             }
         }
     }
     if (opt.has_start && opt.has_stop && opt.stop_s < opt.start_s) {
-        return usage_error("--stop is before --start%s%s", "", "");
+        return usage_error("--stop is before --start");
     }
 
     params_init(&s_params, params_path != NULL ? params_path : "command line");
@@ -228,16 +194,20 @@ int main(int argc, char **argv)
             return rc == TV_ERR_IO ? RLR_EXIT_IO : RLR_EXIT_PARAMS;
         }
     }
-    for (k = 0; k < n_ov; ++k) {
-        rc = params_set(&s_params, ov_key[k], ov_val[k], err, sizeof err);
-        if (rc != TV_OK) {
-            return usage_error("%s%s", err, "");
+    for (k = 0; k < (int)CLI_NOISE_N; ++k) {
+        if (ov.given[k]) {
+            rc = params_set(&s_params, cli_noise_param_key((cli_noise_t)k), ov.value[k], err, sizeof err);
+            if (rc != TV_OK) {
+                return usage_error("%s", err);
+            }
         }
     }
     opt.params = &s_params;
     opt.params_name = params_path;
 
-    if (print_params) {
+    {
+        /* Cross-field rules (e.g. Mc <= Ms) are checked here, before any input is read, so an
+         * invalid parameter file exits 3 as it does in host_sim, whatever the log holds. */
         app_config_t cfg;
         app_config_default(&cfg);
         rc = params_apply(&s_params, &cfg, err, sizeof err);
@@ -245,9 +215,16 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: %s\n", s_prog, err);
             return RLR_EXIT_PARAMS;
         }
-        return params_write(stdout, &cfg, &s_params) == TV_OK ? RLR_EXIT_OK : RLR_EXIT_IO;
+        if (print_params) {
+            return params_write(stdout, &cfg, &s_params) == TV_OK ? RLR_EXIT_OK : RLR_EXIT_IO;
+        }
     }
 
+    if (!opt.parse_only && cli_same_file(in_path, out_path)) {
+        fprintf(stderr, "%s: the output %s is the input log %s: refusing to overwrite it\n", s_prog, out_path,
+                in_path);
+        return RLR_EXIT_USAGE;
+    }
     if (in_path == NULL || strcmp(in_path, "-") == 0) {
         in = stdin;
         in_path = "<stdin>";

@@ -14,6 +14,7 @@
 #include <sys/types.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "params.h"
 #include "rawlog_write.h"
 #include "sim.h"
@@ -29,6 +30,8 @@
 #define MAIN_PATH_MAX 4096
 
 static const char *s_prog = "host_sim";
+
+#define usage_error(...) cli_usage_error(s_prog, __VA_ARGS__)
 
 /* Parameter settings and the raw-log writer (large: static). */
 static params_t s_params;
@@ -108,58 +111,6 @@ static void usage(FILE *f)
             SIM_DURATION_MAX_S, SIM_MC_SEEDS_MAX, (double)EKF_DEFAULT_QU_V2_S, (double)EKF_DEFAULT_QT_NM2_S);
 }
 
-static int usage_error(const char *fmt, const char *opt, const char *val)
-{
-    fprintf(stderr, "%s: ", s_prog);
-    fprintf(stderr, fmt, opt, val);
-    fputs("\n\n", stderr);
-    usage(stderr);
-    return MAIN_EXIT_USAGE;
-}
-
-/* Parse a finite double; 0 on success. */
-static int parse_double(const char *s, double *out)
-{
-    char *end = NULL;
-    double v;
-    if (s == NULL || *s == '\0') {
-        return -1;
-    }
-    errno = 0;
-    v = strtod(s, &end);
-    if (end == s || *end != '\0' || errno == ERANGE || !(v == v) || v - v != 0.0) {
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
-/* Parse an unsigned decimal integer (digits only); 0 on success, -1 not a number, -2 too large. */
-static int parse_u64(const char *s, unsigned long long *out)
-{
-    char *end = NULL;
-    unsigned long long v;
-    const char *p;
-    if (s == NULL || *s == '\0') {
-        return -1;
-    }
-    for (p = s; *p != '\0'; ++p) {
-        if (*p < '0' || *p > '9') {
-            return -1;
-        }
-    }
-    errno = 0;
-    v = strtoull(s, &end, 10);
-    if (errno == ERANGE) {
-        return -2;
-    }
-    if (end == s || *end != '\0') {
-        return -1;
-    }
-    *out = v;
-    return 0;
-}
-
 /* mkdir -p; 0 on success. */
 static int make_dirs(const char *dir)
 {
@@ -168,6 +119,7 @@ static int make_dirs(const char *dir)
     size_t k;
     struct stat st;
     if (n == 0u || n >= sizeof buf) {
+        errno = n == 0u ? ENOENT : ENAMETOOLONG;
         return -1;
     }
     memcpy(buf, dir, n + 1u);
@@ -180,6 +132,7 @@ static int make_dirs(const char *dir)
                     return -1;
                 }
             } else if (!S_ISDIR(st.st_mode)) {
+                errno = ENOTDIR; /* stat succeeded: errno would still say "Success" */
                 return -1;
             }
             buf[k] = c;
@@ -240,8 +193,13 @@ int main(int argc, char **argv)
     const char *raw_path = NULL;
     rlr_format_t raw_format = RLR_FMT_CSV;
     int print_params = 0;
+    cli_noise_overrides_t ov;
+    static const char *const takes_value[] = {"--scenario", "--duration", "--seed", "--mc", "--setup", "--qu", "--qT",
+                                              "--r-current", "--r-angle", "--r-velocity", "--drop-every", "--out",
+                                              "--params", "--raw-log", "--raw-format", NULL};
 
     sim_options_default(&opt);
+    memset(&ov, 0, sizeof ov);
     for (k = 1; k < argc; ++k) {
         const char *a = argv[k];
         const char *v = k + 1 < argc ? argv[k + 1] : NULL;
@@ -259,15 +217,11 @@ int main(int argc, char **argv)
             print_params = 1;
             continue;
         }
-        if (strcmp(a, "--scenario") != 0 && strcmp(a, "--duration") != 0 && strcmp(a, "--seed") != 0 &&
-            strcmp(a, "--mc") != 0 && strcmp(a, "--setup") != 0 && strcmp(a, "--qu") != 0 &&
-            strcmp(a, "--qT") != 0 && strcmp(a, "--r-current") != 0 && strcmp(a, "--r-angle") != 0 &&
-            strcmp(a, "--r-velocity") != 0 && strcmp(a, "--drop-every") != 0 && strcmp(a, "--out") != 0 &&
-            strcmp(a, "--params") != 0 && strcmp(a, "--raw-log") != 0 && strcmp(a, "--raw-format") != 0) {
-            return usage_error("unknown option '%s'%s", a, "");
+        if (!cli_is_one_of(a, takes_value)) {
+            return usage_error("unknown option '%s'", a);
         }
         if (v == NULL) {
-            return usage_error("option %s needs a value%s", a, "");
+            return usage_error("option %s needs a value", a);
         }
         ++k;
         if (strcmp(a, "--scenario") == 0) {
@@ -278,7 +232,7 @@ int main(int argc, char **argv)
             params_path = v;
         } else if (strcmp(a, "--raw-log") == 0) {
             if (*v == '\0') {
-                return usage_error("option %s: empty path%s", a, "");
+                return usage_error("option %s: empty path", a);
             }
             raw_path = v;
         } else if (strcmp(a, "--raw-format") == 0) {
@@ -287,12 +241,12 @@ int main(int argc, char **argv)
             }
         } else if (strcmp(a, "--out") == 0) {
             if (*v == '\0') {
-                return usage_error("option %s: empty directory name%s", a, "");
+                return usage_error("option %s: empty directory name", a);
             }
             out_dir = v;
         } else if (strcmp(a, "--seed") == 0 || strcmp(a, "--mc") == 0 || strcmp(a, "--setup") == 0 ||
                    strcmp(a, "--drop-every") == 0) {
-            const int prc = parse_u64(v, &u);
+            const int prc = cli_parse_u64(v, &u);
             if (prc == -2) {
                 return usage_error("option %s: %s is out of range (too large)", a, v);
             }
@@ -317,38 +271,39 @@ int main(int argc, char **argv)
                 }
                 opt.drop_tick_every = (uint32_t)u;
             }
+        } else if (cli_noise_index(a) >= 0) {
+            rc = cli_noise_set(s_prog, &ov, a, v);
+            if (rc != 0) {
+                return rc;
+            }
         } else {
-            if (parse_double(v, &d) != 0) {
+            if (cli_parse_double(v, &d) != 0) {
                 return usage_error("option %s: '%s' is not a finite number", a, v);
             }
-            if (strcmp(a, "--duration") == 0) {
-                if (!(d > 0.0) || d > SIM_DURATION_MAX_S) {
-                    return usage_error("option %s: %s is out of range (0 < S <= 600)", a, v);
-                }
-                opt.duration_s = d;
-            } else if (strcmp(a, "--qu") == 0 || strcmp(a, "--qT") == 0) {
-                if (d < 0.0) {
-                    return usage_error("option %s: %s is negative (a noise density is >= 0)", a, v);
-                }
-                opt.q_override = 1;
-                if (strcmp(a, "--qu") == 0) { /* the density not given keeps its default */
-                    opt.qu_V2_s = d;
-                } else {
-                    opt.qT_Nm2_s = d;
-                }
-            } else {
-                if (!(d > 0.0)) {
-                    return usage_error("option %s: %s is not > 0 (a variance)", a, v);
-                }
-                if (strcmp(a, "--r-current") == 0) {
-                    opt.r_current_A2 = d;
-                } else if (strcmp(a, "--r-angle") == 0) {
-                    opt.r_angle_rad2 = d;
-                } else {
-                    opt.r_velocity_rad2_s2 = d;
-                }
+            if (!(d > 0.0) || d > SIM_DURATION_MAX_S) {
+                return usage_error("option %s: %s is out of range (0 < S <= 600)", a, v);
             }
+            opt.duration_s = d;
         }
+    }
+    /* the noise overrides; a density not given keeps its default */
+    if (ov.given[CLI_NOISE_QU] || ov.given[CLI_NOISE_QT]) {
+        opt.q_override = 1;
+        if (ov.given[CLI_NOISE_QU]) {
+            opt.qu_V2_s = ov.value[CLI_NOISE_QU];
+        }
+        if (ov.given[CLI_NOISE_QT]) {
+            opt.qT_Nm2_s = ov.value[CLI_NOISE_QT];
+        }
+    }
+    if (ov.given[CLI_NOISE_R_CURRENT]) {
+        opt.r_current_A2 = ov.value[CLI_NOISE_R_CURRENT];
+    }
+    if (ov.given[CLI_NOISE_R_ANGLE]) {
+        opt.r_angle_rad2 = ov.value[CLI_NOISE_R_ANGLE];
+    }
+    if (ov.given[CLI_NOISE_R_VELOCITY]) {
+        opt.r_velocity_rad2_s2 = ov.value[CLI_NOISE_R_VELOCITY];
     }
     if (params_path != NULL || print_params) {
         char err[PARAMS_MSG_MAX];
@@ -372,7 +327,7 @@ int main(int argc, char **argv)
         opt.app = &s_app_cfg;
     }
     if (raw_path != NULL && mc > 0u) {
-        return usage_error("--raw-log writes one run; it cannot be combined with --mc%s%s", "", "");
+        return usage_error("--raw-log writes one run; it cannot be combined with --mc");
     }
     if (make_dirs(out_dir) != 0) {
         fprintf(stderr, "%s: cannot create output directory %s: %s\n", s_prog, out_dir, strerror(errno));

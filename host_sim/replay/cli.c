@@ -1,0 +1,134 @@
+/**
+ * @file cli.c
+ * @brief Command-line helpers shared by the host executables (see cli.h).
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include "cli.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+int cli_parse_double(const char *s, double *out)
+{
+    char *end = NULL;
+    double v;
+    if (s == NULL || *s == '\0' || out == NULL) {
+        return -1;
+    }
+    errno = 0;
+    v = strtod(s, &end);
+    if (end == s || *end != '\0' || errno == ERANGE || !(v == v) || v - v != 0.0) {
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+int cli_parse_u64(const char *s, unsigned long long *out)
+{
+    char *end = NULL;
+    unsigned long long v;
+    const char *p;
+    if (s == NULL || *s == '\0' || out == NULL) {
+        return -1;
+    }
+    for (p = s; *p != '\0'; ++p) {
+        if (*p < '0' || *p > '9') {
+            return -1;
+        }
+    }
+    errno = 0;
+    v = strtoull(s, &end, 10);
+    if (errno == ERANGE) {
+        return -2;
+    }
+    if (end == s || *end != '\0') {
+        return -1;
+    }
+    *out = v;
+    return 0;
+}
+
+int cli_usage_error(const char *prog, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "%s: ", prog);
+    va_start(ap, fmt);
+    (void)vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, "\ntry '%s --help'\n", prog);
+    return CLI_EXIT_USAGE;
+}
+
+int cli_is_one_of(const char *a, const char *const *names)
+{
+    size_t k;
+    for (k = 0; names[k] != NULL; ++k) {
+        if (strcmp(a, names[k]) == 0) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
+static const char *const s_noise_opts[CLI_NOISE_N] = {"--qu", "--qT", "--r-current", "--r-angle", "--r-velocity"};
+static const char *const s_noise_keys[CLI_NOISE_N] = {"ekf.qu_V2_s", "ekf.qT_Nm2_s", "ekf.r_current_A2",
+                                                      "ekf.r_angle_rad2", "ekf.r_velocity_rad2_s2"};
+
+int cli_noise_index(const char *a)
+{
+    int k;
+    for (k = 0; k < (int)CLI_NOISE_N; ++k) {
+        if (strcmp(a, s_noise_opts[k]) == 0) {
+            return k;
+        }
+    }
+    return -1;
+}
+
+const char *cli_noise_param_key(cli_noise_t idx)
+{
+    return (unsigned)idx < (unsigned)CLI_NOISE_N ? s_noise_keys[idx] : "?";
+}
+
+int cli_noise_set(const char *prog, cli_noise_overrides_t *ov, const char *a, const char *v)
+{
+    const int k = cli_noise_index(a);
+    double d = 0.0;
+    if (k < 0) {
+        return cli_usage_error(prog, "unknown option '%s'", a);
+    }
+    if (cli_parse_double(v, &d) != 0) {
+        return cli_usage_error(prog, "option %s: '%s' is not a finite number", a, v);
+    }
+    if (k <= (int)CLI_NOISE_QT && d < 0.0) {
+        return cli_usage_error(prog, "option %s: %s is negative (a noise density is >= 0)", a, v);
+    }
+    if (k > (int)CLI_NOISE_QT && !(d > 0.0)) {
+        return cli_usage_error(prog, "option %s: %s is not > 0 (a variance)", a, v);
+    }
+    if (ov->given[k]) {
+        return cli_usage_error(prog, "option %s given twice", a);
+    }
+    ov->given[k] = 1;
+    ov->value[k] = d;
+    return 0;
+}
+
+int cli_same_file(const char *in_path, const char *out_path)
+{
+    struct stat si;
+    struct stat so;
+    if (in_path == NULL || out_path == NULL || strcmp(in_path, "-") == 0 || strcmp(out_path, "-") == 0) {
+        return 0;
+    }
+    if (stat(in_path, &si) != 0 || stat(out_path, &so) != 0) {
+        return 0;
+    }
+    return si.st_dev == so.st_dev && si.st_ino == so.st_ino;
+}

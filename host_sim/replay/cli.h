@@ -1,0 +1,83 @@
+/**
+ * @file cli.h
+ * @brief Command-line helpers shared by host_sim, replay and log_convert: number parsing, the
+ *        one-line usage error, the process- and measurement-noise overrides (--qu, --qT,
+ *        --r-current, --r-angle, --r-velocity) and the check that an output is not the input.
+ */
+#ifndef CLI_H
+#define CLI_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Exit code of a usage error, the same in every executable. */
+#define CLI_EXIT_USAGE 2
+
+/** Parse a finite decimal double (the whole string); 0 on success, -1 otherwise. */
+int cli_parse_double(const char *s, double *out);
+
+/**
+ * Parse an unsigned decimal integer (digits only, no sign, no 0x, no octal meaning of a leading
+ * 0); 0 on success, -1 not a number, -2 too large for unsigned long long.
+ */
+int cli_parse_u64(const char *s, unsigned long long *out);
+
+/**
+ * Print "PROG: MESSAGE" and one hint line ("try 'PROG --help'") on stderr, never the whole
+ * help. printf-style message.
+ * @return CLI_EXIT_USAGE
+ */
+int cli_usage_error(const char *prog, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/** 1 when a is one of the NULL-terminated names (an option that takes a value), else 0. */
+int cli_is_one_of(const char *a, const char *const *names);
+
+/** The noise overrides, by index. */
+typedef enum {
+    CLI_NOISE_QU = 0,     /**< --qu: armature voltage noise density [V^2 s], >= 0 */
+    CLI_NOISE_QT,         /**< --qT: plate torque noise density [N^2 m^2 s], >= 0 */
+    CLI_NOISE_R_CURRENT,  /**< --r-current: current measurement variance [A^2], > 0 */
+    CLI_NOISE_R_ANGLE,    /**< --r-angle: angle measurement variance [rad^2], > 0 */
+    CLI_NOISE_R_VELOCITY, /**< --r-velocity: differentiated-velocity variance [(rad/s)^2], > 0 */
+    CLI_NOISE_N
+} cli_noise_t;
+
+/** The noise overrides given on a command line. */
+typedef struct {
+    int given[CLI_NOISE_N];   /**< 1 when the option was given */
+    double value[CLI_NOISE_N]; /**< its value, in the unit above */
+} cli_noise_overrides_t;
+
+/** Index of a noise option name (e.g. "--qu"), or -1 when a is not one. */
+int cli_noise_index(const char *a);
+
+/** Parameter-file key of a noise override (e.g. "ekf.qu_V2_s"). */
+const char *cli_noise_param_key(cli_noise_t idx);
+
+/**
+ * Parse and check the value v of noise option a (cli_noise_index(a) >= 0) into *ov: a finite
+ * number, >= 0 for a density and > 0 for a variance, given once.
+ * @return 0; or CLI_EXIT_USAGE after a one-line usage error naming the option and the value.
+ */
+int cli_noise_set(const char *prog, cli_noise_overrides_t *ov, const char *a, const char *v);
+
+/**
+ * Refuse to write an output file that is the input (same device and inode, whatever the path:
+ * another spelling, a hard or a symbolic link). "-" or NULL (stdin/stdout) never clash, nor does
+ * an output that does not exist yet. Call before the output is opened for writing.
+ * @return 1 when out_path names the input file, else 0
+ */
+int cli_same_file(const char *in_path, const char *out_path);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* CLI_H */
