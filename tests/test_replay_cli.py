@@ -261,6 +261,18 @@ def main():
     out, _ = expect([exe("host_sim"), "--print-params"], 0)
     check(b"model.R_ohm = 4.3 " in out and b"4.2999" not in out, "--print-params prints 4.3, not 4.2999999999999998")
 
+    # endless input without a newline ends at once with an error (it used to never end)
+    expect([exe("replay"), "--format", "csv", "/dev/zero"], 11, "a NUL byte")
+    expect([exe("log_convert"), "--from", "csv", "/dev/zero", "-o", path("z.bin")], 11, "a NUL byte")
+    expect([exe("replay"), "--params", "/dev/zero", path("same.csv")], 3, "NUL byte in the line")
+    # a log cut in its last line ("...,27" for "...,2793", no final newline) is not replayed as valid
+    cut = csv_log(good_rows(3))[:-3]
+    expect([exe("replay"), write("cut.csv", cut)], 18, "cut.csv: line 5: the last line has no final newline")
+    # a header CRC mismatch exits 6 (bad header), as LOG_FORMATS.md says
+    raw = bytearray(open(path("raw.bin"), "rb").read())
+    raw[20] ^= 1
+    expect([exe("replay"), write("hcrc.bin", bytes(raw))], 6, "header CRC mismatch")
+
     print("%d checks, %d failed" % (CHECKS[0], len(FAILED)))
     return 1 if FAILED else 0
 

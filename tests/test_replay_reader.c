@@ -114,7 +114,7 @@ static void test_csv_good_log_reads_every_record_and_the_metadata(void)
     TV_CHECK_EQ_INT(s_r.st.missing_samples, 0);
 }
 
-static void test_csv_accepts_crlf_bom_quotes_metadata_first_and_no_final_newline(void)
+static void test_csv_accepts_crlf_bom_quotes_metadata_first(void)
 {
     static const char text[] = "\xEF\xBB\xBF# adc_bits: 10\r\n"
                                "# a free comment: with a colon\r\n"
@@ -123,7 +123,7 @@ static void test_csv_accepts_crlf_bom_quotes_metadata_first_and_no_final_newline
                                "0, 0.5 ,1023,0,1,2,0,whatever\r\n"
                                "# a comment between samples\r\n"
                                "\r\n"
-                               "1000,0,1,2,3,4,0,x";
+                               "1000,0,1,2,3,4,0,x\r\n";
     rawlog_record_t rec;
     TV_CHECK_EQ_INT(open_text(text, RLR_FMT_AUTO), TV_OK);
     TV_CHECK_EQ_INT(s_r.adc_max_counts, 1023);
@@ -132,6 +132,36 @@ static void test_csv_accepts_crlf_bom_quotes_metadata_first_and_no_final_newline
     TV_CHECK_EQ_INT(rlr_next(&s_r, &rec), 1);
     TV_CHECK(rec.t_us == 1000u && rec.adc[3] == 4u);
     TV_CHECK_EQ_INT(rlr_next(&s_r, &rec), 0);
+}
+
+/* A log cut while written ends in a partial line ("...,27" for "...,2793") that still parses:
+ * a last line without its newline is refused as truncated, never replayed (issue 9). */
+static void test_csv_last_line_without_newline_is_truncated(void)
+{
+    rawlog_record_t rec;
+    TV_CHECK_EQ_INT(open_text(csv_with("0,0.1,2048,633,3463,2794,0\n1000,0.1,2048,633,3463,27"), RLR_FMT_CSV), TV_OK);
+    TV_CHECK_EQ_INT(rlr_next(&s_r, &rec), 1);
+    TV_CHECK_EQ_INT(rec.t_us, 0);
+    TV_CHECK(rlr_next(&s_r, &rec) < 0);
+    TV_CHECK_EQ_INT(rlr_error(&s_r), RLR_E_TRUNCATED);
+    TV_CHECK(!rlr_recoverable(&s_r));
+    TV_CHECK(strstr(rlr_message(&s_r), "the last line has no final newline") != NULL);
+    TV_CHECK_EQ_INT(rlr_exit_code(rlr_error(&s_r)), 18);
+}
+
+/* Binary data read as CSV (or /dev/zero): a NUL byte stops the reader at once instead of
+ * consuming one endless line. */
+static void test_csv_nul_byte_is_fatal(void)
+{
+    static const char text[] = "t_us,duty,current_counts,tps1_counts,tps2_counts,supply_counts,driver_fault\n"
+                               "0,0.1,2048,633,3463,2794,0\n"
+                               "1000,0.1\0\0\0\0";
+    rawlog_record_t rec;
+    TV_CHECK_EQ_INT(rlr_open_mem(&s_r, (const uint8_t *)text, sizeof text - 1u, "t.csv", RLR_FMT_CSV, 0u), TV_OK);
+    TV_CHECK_EQ_INT(rlr_next(&s_r, &rec), 1);
+    TV_CHECK(rlr_next(&s_r, &rec) < 0);
+    TV_CHECK(strstr(rlr_message(&s_r), "a NUL byte") != NULL);
+    TV_CHECK(!rlr_recoverable(&s_r));
 }
 
 static void test_csv_integral_fields_may_be_written_in_floating_point(void)
@@ -464,7 +494,9 @@ static void test_bin_header_crc_and_fields_are_checked(void)
     size_t len = make_bin(3u);
     s_bin[20] ^= 0x01u; /* sample rate bit: CRC catches it */
     TV_CHECK_EQ_INT(open_bin(len), TV_ERR_FORMAT);
-    TV_CHECK_EQ_INT(rlr_error(&s_r), RLR_E_CRC);
+    /* a header CRC mismatch is a bad header (exit 6, LOG_FORMATS.md), not a block CRC (16) */
+    TV_CHECK_EQ_INT(rlr_error(&s_r), RLR_E_HEADER);
+    TV_CHECK_EQ_INT(rlr_exit_code(rlr_error(&s_r)), 6);
     TV_CHECK(strstr(rlr_message(&s_r), "byte offset 124: header CRC mismatch") != NULL);
     TV_CHECK(!rlr_recoverable(&s_r));
     len = make_bin(3u);
@@ -725,7 +757,9 @@ static void test_numfmt_g9_is_byte_identical_to_printf(void)
 int main(void)
 {
     TV_TEST_RUN(test_csv_good_log_reads_every_record_and_the_metadata);
-    TV_TEST_RUN(test_csv_accepts_crlf_bom_quotes_metadata_first_and_no_final_newline);
+    TV_TEST_RUN(test_csv_accepts_crlf_bom_quotes_metadata_first);
+    TV_TEST_RUN(test_csv_last_line_without_newline_is_truncated);
+    TV_TEST_RUN(test_csv_nul_byte_is_fatal);
     TV_TEST_RUN(test_csv_integral_fields_may_be_written_in_floating_point);
     TV_TEST_RUN(test_csv_gap_is_counted_as_missing_samples_not_an_error);
     TV_TEST_RUN(test_csv_empty_input_is_an_error);

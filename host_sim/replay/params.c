@@ -308,10 +308,21 @@ int params_load(params_t *p, const char *path, char *err, size_t cap)
             }
             continue;
         }
+        if (c == '\0') {
+            msg(err, cap, "%s:%lu: NUL byte in the line (not a text parameter file)", path, line_no + 1u);
+            rc = TV_ERR_FORMAT;
+            break;
+        }
         if (len < sizeof line) {
             line[len++] = (char)c;
         }
-        ++total; /* handle_line() rejects total > PARAMS_LINE_MAX before reading the buffer */
+        ++total;
+        if (total > PARAMS_LINE_MAX) {
+            /* stop at once: a file without newlines (e.g. /dev/zero) would be read forever */
+            msg(err, cap, "%s:%lu: line longer than %u bytes", path, line_no + 1u, PARAMS_LINE_MAX);
+            rc = TV_ERR_FORMAT;
+            break;
+        }
     }
     if (rc == TV_OK && ferror(f)) {
         msg(err, cap, "%s: read error", path);

@@ -261,10 +261,28 @@ static int next_line(rlr_t *r, char **line, size_t *n)
         const size_t scan = avail < r->line_max + 1u ? avail : r->line_max + 1u;
         uint8_t *start = r->buf + r->pos;
         const uint8_t *nl = (const uint8_t *)memchr(start, '\n', scan);
-        if (nl != NULL || (r->eof && avail > 0u && avail <= r->line_max)) {
-            size_t len = nl != NULL ? (size_t)(nl - start) : avail;
-            r->pos += nl != NULL ? len + 1u : len;
-            start[len] = '\0'; /* the '\n', or buf[len] (the spare byte) at the end */
+        if (nl == NULL && r->eof && avail > 0u && avail <= r->line_max) {
+            /* The last line has no final newline: the log was cut while being written (e.g.
+             * "...,27" for "...,2793"); a number that lost its last digits still parses, so the
+             * line is refused rather than read. Consumed: it ends the input. */
+            r->pos = r->len;
+            ++r->line;
+            ++r->st.lines;
+            return fail(r, RLR_E_TRUNCATED, 1, "line %llu: the last line has no final newline (truncated log?)",
+                        (unsigned long long)r->line);
+        }
+        if (memchr(start, '\0', nl != NULL ? (size_t)(nl - start) : scan) != NULL) {
+            /* Text logs hold no NUL byte: binary data read as CSV (or /dev/zero) would otherwise
+             * be consumed forever as one endless line. */
+            ++r->line;
+            ++r->st.lines;
+            return fail(r, RLR_E_NUMBER, 1, "line %llu: a NUL byte: binary data, not a CSV log",
+                        (unsigned long long)r->line);
+        }
+        if (nl != NULL) {
+            size_t len = (size_t)(nl - start);
+            r->pos += len + 1u;
+            start[len] = '\0'; /* the '\n' */
             if (len > 0u && start[len - 1u] == '\r') {
                 start[--len] = '\0';
             }
@@ -282,6 +300,15 @@ static int next_line(rlr_t *r, char **line, size_t *n)
             for (;;) {
                 const size_t a = r->len - r->pos;
                 const uint8_t *q = (const uint8_t *)memchr(r->buf + r->pos, '\n', a);
+                const size_t chunk = q != NULL ? (size_t)(q - (r->buf + r->pos)) : a;
+                if (total + chunk > RLR_LONG_LINE_SKIP_MAX || memchr(r->buf + r->pos, '\0', chunk) != NULL) {
+                    /* no newline in sight, or binary data: not a text log (e.g. /dev/zero); stop
+                     * instead of reading on */
+                    r->pos = r->len;
+                    return fail(r, RLR_E_LINE_LONG, 1,
+                                "line %llu: more than %lu bytes without a newline, or a NUL byte: not a CSV log",
+                                (unsigned long long)r->line, (unsigned long)RLR_LONG_LINE_SKIP_MAX);
+                }
                 if (q != NULL) {
                     total += (uint64_t)(q - (r->buf + r->pos));
                     r->pos = (size_t)(q - r->buf) + 1u;
@@ -954,7 +981,7 @@ static int bin_open(rlr_t *r)
     crc_stored = get_u32(h + RAWLOG_HEADER_CRC_OFFSET);
     crc = rawlog_crc32(0u, h, RAWLOG_HEADER_CRC_OFFSET);
     if (crc != crc_stored) {
-        return fail(r, RLR_E_CRC, 1, "byte offset %u: header CRC mismatch (stored 0x%08lx, computed 0x%08lx)",
+        return fail(r, RLR_E_HEADER, 1, "byte offset %u: header CRC mismatch (stored 0x%08lx, computed 0x%08lx)",
                     RAWLOG_HEADER_CRC_OFFSET, (unsigned long)crc_stored, (unsigned long)crc);
     }
     r->hdr.flags = get_u32(h + 16);
