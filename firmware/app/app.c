@@ -179,21 +179,43 @@ int app_set_target(app_t *app, tv_real_t target_rad)
 }
 
 /*
- * Voltage the model sees while the bridge is disabled. The real winding is open: the current
- * decays through the body diodes in well under a period and then stays 0 whatever the plate
- * does. The model has no open-circuit state; with u = n Ke w (the back-EMF) its armature
- * equation becomes L di/dt = -R i, so the predicted current decays to 0 and stays there while
- * the plate moves, instead of the short-circuit braking current that u = 0 would predict.
+ * Voltage the model sees over a period with the bridge disabled. The real winding is open: the
+ * current decays through the body diodes against the supply (di/dt ~ -(Vs + 2 Vd) / L, ~7 A/ms
+ * here) in well under a period and then stays 0 whatever the plate does. The model has no
+ * open-circuit state; the constant voltage that takes the predicted current from i0 to exactly
+ * 0 at the end of the period (the exact armature solution over Ts with the back-EMF n Ke w held:
+ * i1 = a_T i0 + b_T (u - n Ke w) = 0) is the closest constant input: the current ends at 0 as
+ * in reality, and a current already at 0 stays there while the plate moves (u = n Ke w). With
+ * u = n Ke w alone the current decayed with L/R = 0.47 ms and 12 % of it was still predicted
+ * after a period.
  */
 static tv_real_t open_bridge_voltage(const app_t *app)
 {
-    return app->cfg.model.n_gear * app->cfg.model.Ke_V_s_rad * app->ekf.x[TVM_W];
+    const tvm_t *m = &app->ekf.model;
+    tv_real_t a_T = TV_R(1.0);
+    tv_real_t b_T;
+    int k;
+    for (k = 0; k < m->p.substeps; ++k) { /* a_T = a^N: N <= TVM_SUBSTEPS_MAX, bounded */
+        a_T *= m->a;
+    }
+    /* b_T = b (1 + a + ... + a^(N-1)) */
+    b_T = m->a < TV_R(1.0) ? m->b_A_V * (TV_R(1.0) - a_T) / (TV_R(1.0) - m->a) : m->b_A_V * (tv_real_t)m->p.substeps;
+    return m->nKe_V_s * app->ekf.x[TVM_W] - a_T / b_T * app->ekf.x[TVM_I];
 }
 
 void app_outputs_forced_off(app_t *app)
 {
     if (app != NULL) {
         app->u_applied_V = open_bridge_voltage(app);
+        app->open_after_missed = 0u;
+        app->integ_V = TV_R(0.0);
+    }
+}
+
+void app_sample_missed(app_t *app)
+{
+    if (app != NULL) {
+        app->open_after_missed = 1u; /* u_applied_V stays: the ending period ran with it */
         app->integ_V = TV_R(0.0);
     }
 }
@@ -355,12 +377,16 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     }
     out->ekf_status = TV_OK;
     for (k = 0u; k < periods; ++k) {
-        const int rc = ekf_predict(&app->ekf, app->u_applied_V);
+        /* After a missed sample the outputs were forced off: the first period ran with the
+         * voltage chosen for it, the later ones with the bridge open. */
+        const tv_real_t u_V = k > 0u && app->open_after_missed ? open_bridge_voltage(app) : app->u_applied_V;
+        const int rc = ekf_predict(&app->ekf, u_V);
         if (rc != TV_OK) {
             out->ekf_status = rc;
             break;
         }
     }
+    app->open_after_missed = 0u;
     if (out->ekf_status == TV_OK && sample_ok && periods > 0u) {
         out->ekf_status = ekf_correct(&app->ekf, &meas, &out->innov);
     }

@@ -157,6 +157,8 @@ typedef struct {
     uint16_t debounce[8];     /**< per check, consecutive failures */
     uint16_t ekf_fail_run;    /**< consecutive EKF rejections */
     tv_real_t u_applied_V;    /**< voltage applied over the last period (input of the next predict) */
+    uint8_t open_after_missed; /**< 1: a sample was missed and the outputs forced off then: the
+                                    periods after the one that ran with u_applied_V ran open */
     tv_real_t last_angle_rad; /**< last plausible angle measurement (for differentiated velocity) */
     uint64_t last_angle_t_us; /**< its sample time [us] */
     uint8_t have_last_angle;  /**< 1 once a plausible angle was seen */
@@ -200,10 +202,19 @@ int app_set_control(app_t *app, const app_control_t *ctl);
 int app_set_target(app_t *app, tv_real_t target_rad);
 
 /**
- * Tell the application that the platform forced its outputs off this period (a failed ADC
- * read or PWM write): the estimator then predicts the next period with the bridge open.
+ * Tell the application that the platform forced its outputs off this period after a failed PWM
+ * write (app_step() ran and chose the outputs): the estimator then predicts the next period
+ * with the bridge open.
  */
 void app_outputs_forced_off(app_t *app);
+
+/**
+ * Tell the application that this period's ADC read failed (app_step() did not run) and the
+ * platform forced its outputs off: the period that just ended still ran with the voltage
+ * app_step() chose for it, and the estimator predicts it with that voltage; only the periods
+ * after it are predicted with the bridge open.
+ */
+void app_sample_missed(app_t *app);
 
 #ifdef __cplusplus
 }

@@ -25,7 +25,7 @@ int app_tick(app_t *app, app_output_t *out)
         /* No sample: outputs to the safe state; the application sees nothing this period. */
         (void)hal_pwm_set_duty(0.0f);
         (void)hal_bridge_enable(0);
-        app_outputs_forced_off(app);
+        app_sample_missed(app);
         return rc;
     }
     for (k = 0; k < 4; ++k) {
