@@ -630,7 +630,9 @@ static void test_fault_clear_acts_on_edge(void)
 }
 
 /* Repeating an unchanged command does not reset the position integrator (app_set_control()
- * is called on changes only); a changed target does. */
+ * is called on changes only); nor does a new target for the running position loop (it is a
+ * set-point change, app_set_target(): resetting the integrator bumped the plate on every step of
+ * the target, issue 9); a change of mode does. */
 static void test_unchanged_command_keeps_integrator(void)
 {
     static app_t app;
@@ -645,6 +647,11 @@ static void test_unchanged_command_keeps_integrator(void)
     TV_CHECK_NEAR(app.integ_V, 1.5, 0.0);
     f = control_frame(APP_MODE_POSITION, 0.4f, 0.9f, 0u, 2u);
     TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 40000u), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_NEAR(app.cfg.control.target_rad, 0.4, 1e-6);
+    TV_CHECK_NEAR(app.integ_V, 1.5, 0.0);
+    f = control_frame(APP_MODE_SINE, 0.4f, 0.9f, 0u, 3u);
+    TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 60000u), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_EQ_INT(app.cfg.control.mode, APP_MODE_SINE);
     TV_CHECK_NEAR(app.integ_V, 0.0, 0.0);
 }
 

@@ -665,7 +665,8 @@ void can_proto_config_default(can_proto_config_t *cfg)
 }
 
 /* The control the application should run: the commanded one, OFF while a watchdog-protected
- * link is not ACTIVE. Calls app_set_control() only on a change. */
+ * link is not ACTIVE. Calls app_set_control() only on a change, app_set_target() when only the
+ * target changed. */
 static int apply_control(can_proto_node_t *node, app_t *app)
 {
     app_control_t eff = node->commanded;
@@ -675,8 +676,11 @@ static int apply_control(can_proto_node_t *node, app_t *app)
     }
     if (eff.mode == cur->mode && eff.amplitude_V == cur->amplitude_V && eff.freq_Hz == cur->freq_Hz &&
         eff.chirp_f1_Hz == cur->chirp_f1_Hz && eff.chirp_period_s == cur->chirp_period_s &&
-        eff.target_rad == cur->target_rad && eff.duty_limit == cur->duty_limit) {
-        return TV_OK;
+        eff.duty_limit == cur->duty_limit) {
+        /* Only the target moved (or nothing): a new set-point for the running position loop,
+         * which keeps its integrator (app_set_control() would reset it: a bump on every step of
+         * the target). */
+        return eff.target_rad == cur->target_rad ? TV_OK : app_set_target(app, eff.target_rad);
     }
     return app_set_control(app, &eff);
 }
