@@ -247,25 +247,45 @@ static tv_real_t app_sin(tv_real_t a)
 #endif
 }
 
-/* Voltage command of the active mode at time t [s] since start. */
-static tv_real_t control_law(app_t *app, tv_real_t t_s)
+/*
+ * Time within the current period of an excitation [s], from the integer microseconds since start:
+ * the modulo is taken in integers, so only a number below one period is ever converted to the
+ * scalar type. (Converting the microseconds since boot to float seconds left 256 us of
+ * resolution after an hour and 8 ms after a day.) The period is realised as a whole number of
+ * microseconds: 5 Hz exactly, 3 Hz as 3.000003 Hz (1 ppm, below any crystal's tolerance).
+ */
+static tv_real_t time_in_period_s(uint64_t elapsed_us, tv_real_t period_s)
+{
+    const tv_real_t p_us = period_s * TV_R(1e6) + TV_R(0.5);
+    const uint64_t period_us = p_us >= TV_R(1.0) ? (uint64_t)p_us : 1u;
+    return (tv_real_t)(elapsed_us % period_us) * TV_R(1e-6);
+}
+
+/* Voltage command of the active mode, elapsed_us [us] after the start. */
+static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
 {
     const app_control_t *c = &app->cfg.control;
     const tvm_params_t *p = &app->cfg.model;
     switch (c->mode) {
-    case APP_MODE_SINE:
-        return c->amplitude_V * app_sin(TV_R(2.0) * APP_PI * c->freq_Hz * t_s);
+    case APP_MODE_SINE: {
+        if (!(c->freq_Hz > TV_R(0.0))) {
+            return TV_R(0.0); /* sin(0): a 0 Hz sine never leaves its start */
+        }
+        const tv_real_t period_s = TV_R(1.0) / c->freq_Hz;
+        return c->amplitude_V * app_sin(TV_R(2.0) * APP_PI * time_in_period_s(elapsed_us, period_s) / period_s);
+    }
     case APP_MODE_STEPS: {
-        /* phase in [0, 1): first half +A, second half -A */
-        const tv_real_t cycles = c->freq_Hz * t_s;
-        const tv_real_t phase = cycles - (tv_real_t)(long)cycles;
-        return phase < TV_R(0.5) ? c->amplitude_V : -c->amplitude_V;
+        /* first half of each period +A, second half -A; 0 Hz: the first half lasts for ever */
+        if (!(c->freq_Hz > TV_R(0.0))) {
+            return c->amplitude_V;
+        }
+        const tv_real_t period_s = TV_R(1.0) / c->freq_Hz;
+        return time_in_period_s(elapsed_us, period_s) < TV_R(0.5) * period_s ? c->amplitude_V : -c->amplitude_V;
     }
     case APP_MODE_CHIRP: {
         /* linear sweep f0 -> f1 over chirp_period, restarting: phase = 2 pi (f0 tau + (f1-f0) tau^2 / 2T) */
         const tv_real_t T = c->chirp_period_s;
-        const tv_real_t n = (tv_real_t)(long)(t_s / T);
-        const tv_real_t tau = t_s - n * T;
+        const tv_real_t tau = time_in_period_s(elapsed_us, T);
         const tv_real_t ph = TV_R(2.0) * APP_PI * (c->freq_Hz * tau + (c->chirp_f1_Hz - c->freq_Hz) * tau * tau / (TV_R(2.0) * T));
         return c->amplitude_V * app_sin(ph);
     }
@@ -422,12 +442,11 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         out->bridge_enable = enabled && app->faults == 0u ? 1u : 0u;
         app->u_applied_V = enabled ? (tv_real_t)d * out->supply_V : open_bridge_voltage(app);
     } else {
-        const tv_real_t t_s = (tv_real_t)(in->t_us - app->t0_us) * TV_R(1e-6);
         tv_real_t duty = TV_R(0.0);
         uint8_t enable = 0u;
         if (app->faults == 0u && app->cfg.control.mode != APP_MODE_OFF && out->supply_V > TV_R(0.0)) {
             const tv_real_t dl = app->cfg.control.duty_limit;
-            out->u_cmd_V = control_law(app, t_s);
+            out->u_cmd_V = control_law(app, in->t_us - app->t0_us);
             duty = clamp(out->u_cmd_V / out->supply_V, -dl, dl);
             enable = 1u;
         } else {
