@@ -91,7 +91,7 @@ static void test_values_stored(void)
                          "   rt.priority = 0   # SCHED_OTHER\n"
                          "rt.cpu=-1\n"
                          "rt.lock_memory = no\n"
-                         "pwm.period_ns = 0x2710\n"
+                         "pwm.period_ns = 010000\n" /* decimal: ten thousand (octal would be 4096) */
                          "gpio.consumer = \"tv bench\"\n"
                          "can.period_ms.meas = 0\n"
                          "can.max_counter_delta = 1\n"
@@ -118,6 +118,9 @@ static void test_values_stored(void)
 static void test_syntax_errors_named(void)
 {
     expect_error("bogus.key = 1\n", TV_ERR_FORMAT, "t.conf:9:", "unknown key 'bogus.key'");
+    /* numbers are decimal: 0x50 is refused (it was read as 80), 010 is ten (it was octal 8) */
+    expect_error("rt.cpu = 0x50\n", TV_ERR_FORMAT, "t.conf:9:", "rt.cpu");
+    expect_error("app.freq_Hz = 0x1p3\n", TV_ERR_FORMAT, "t.conf:9:", "not a decimal number");
     expect_error("pwm.chip = /x\n", TV_ERR_FORMAT, "t.conf:9:", "key 'pwm.chip' given twice");
     expect_error("rt.priority 80\n", TV_ERR_FORMAT, "t.conf:9:", "expected 'key = value'");
     expect_error("gpio.consumer = \"open\n", TV_ERR_FORMAT, "gpio.consumer", "unterminated quote");

@@ -185,11 +185,17 @@ static int store(const key_desc_t *k, const char *v, lx_config_t *cfg, const cha
         memcpy(base, &b, sizeof b);
         return TV_OK;
     }
+    if (strchr(v, 'x') != NULL || strchr(v, 'X') != NULL) {
+        /* decimal only: strtod reads hexadecimal floats, base-0 strtoll reads 0x50 as 80 */
+        *why = "not a decimal number (no 0x prefix)";
+        return TV_ERR_FORMAT;
+    }
     errno = 0;
     if (k->type == K_DOUBLE) {
         d = strtod(v, &end);
     } else {
-        const long long n = strtoll(v, &end, 0);
+        /* base 10: a leading zero is not octal ("010" is ten, as everyone reading it expects) */
+        const long long n = strtoll(v, &end, 10);
         d = (double)n;
         if (errno == ERANGE) {
             *why = "out of range";
