@@ -273,6 +273,10 @@ def main():
     raw[20] ^= 1
     expect([exe("replay"), write("hcrc.bin", bytes(raw))], 6, "header CRC mismatch")
 
+    # a calibration the application refuses is named by file, line and key
+    cal = csv_log(good_rows(3), "# sample_rate_Hz: 1000\n# tps1_rad_per_count: 0\n")
+    expect([exe("replay"), write("cal0.csv", cal)], 4, "cal0.csv:3: metadata tps1_rad_per_count = 0 must be > 0")
+
     print("%d checks, %d failed" % (CHECKS[0], len(FAILED)))
     return 1 if FAILED else 0
 

@@ -577,6 +577,7 @@ static int csv_metadata(rlr_t *r, char *s, size_t n, uint64_t seen_line[RLR_NCAL
         }
         set_calib(&r->hdr, idx, v);
         r->calib_present |= 1u << idx;
+        r->calib_line[idx] = r->line;
         return TV_OK;
     }
     if (idx == RLR_NCAL) { /* format */

@@ -129,6 +129,7 @@ typedef struct {
     rlr_format_t format;        /**< RLR_FMT_CSV or RLR_FMT_BIN once opened */
     rlr_err_t err;              /**< class of the last error */
     unsigned calib_present;     /**< RLR_CAL_* bits of the calibration values the log gave */
+    uint64_t calib_line[RLR_NCAL]; /**< CSV: metadata line of each calibration value (0: binary header or not given) */
     uint32_t adc_max_counts;    /**< 2^adc_bits - 1 */
     uint32_t period_us;         /**< sample period from the header, rounded [us] */
     uint32_t next_sequence;     /**< binary: expected block sequence number */

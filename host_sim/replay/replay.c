@@ -134,26 +134,58 @@ int replay_build_config(const rlr_t *r, const replay_options_t *o, app_config_t 
     return TV_OK;
 }
 
-/* Why app_init() refused cfg, as far as the calibration and limits tell. */
-static void explain_config(const app_config_t *c, int rc, char *err, size_t cap)
+/* Where calibration value k of a run came from: "FILE:LINE: calib.KEY" of the parameter file,
+ * the log's metadata line or binary header, or the default. */
+static void calib_source(const rlr_t *r, const replay_options_t *o, int k, char *out, size_t cap)
+{
+    char pkey[64];
+    const int pk = (snprintf(pkey, sizeof pkey, "calib.%s", rlr_calib_name(k)), params_key_index(pkey));
+    if (o->params != NULL && pk >= 0 && o->params->line[pk] != 0u) {
+        (void)snprintf(out, cap, "%s:%lu: %s", o->params->file, (unsigned long)o->params->line[pk], pkey);
+    } else if ((r->calib_present & (1u << k)) != 0u && r->calib_line[k] != 0u) {
+        (void)snprintf(out, cap, "%s:%llu: metadata %s", r->name, (unsigned long long)r->calib_line[k],
+                       rlr_calib_name(k));
+    } else if ((r->calib_present & (1u << k)) != 0u) {
+        (void)snprintf(out, cap, "%s: binary header field %s", r->name, rlr_calib_name(k));
+    } else {
+        (void)snprintf(out, cap, "%s (default: %s gives none)", rlr_calib_name(k), r->name);
+    }
+}
+
+/* Why app_init() refused cfg, naming the value and where it came from (file, line, key). */
+static void explain_config(const rlr_t *r, const replay_options_t *o, const app_config_t *c, int rc, char *err,
+                           size_t cap)
 {
     const app_calib_t *k = &c->calib;
     const app_limits_t *l = &c->limits;
     const char *why = "the model or noise parameters are invalid (tvm_init / ekf_init)";
+    char where[PARAMS_NAME_MAX + 96];
+    int bad = -1; /* calibration index */
     if (!(k->current_A_per_count != TV_R(0.0))) {
-        why = "current_A_per_count must not be 0";
+        why = "must not be 0";
+        bad = 1;
     } else if (!(k->tps1_rad_per_count > TV_R(0.0))) {
-        why = "tps1_rad_per_count must be > 0 (rising track)";
+        why = "must be > 0 (rising track)";
+        bad = 3;
     } else if (!(k->tps2_rad_per_count < TV_R(0.0))) {
-        why = "tps2_rad_per_count must be < 0 (falling track)";
+        why = "must be < 0 (falling track)";
+        bad = 5;
     } else if (!(k->supply_V_per_count > TV_R(0.0))) {
-        why = "supply_V_per_count must be > 0";
+        why = "must be > 0";
+        bad = 6;
     } else if (l->current_max_counts > k->adc_max_counts || l->tps_max_counts > k->adc_max_counts) {
         why = "a count limit exceeds the ADC range of the log";
     } else if (l->current_min_counts >= l->current_max_counts || l->tps_min_counts >= l->tps_max_counts) {
         why = "a count limit's minimum is not below its maximum";
     }
-    (void)snprintf(err, cap, "the application rejects the configuration (%s): %s", tv_status_str(rc), why);
+    if (bad >= 0) {
+        app_calib_t copy = c->calib;
+        calib_source(r, o, bad, where, sizeof where);
+        (void)snprintf(err, cap, "the application rejects the configuration (%s): %s = %.9g %s", tv_status_str(rc),
+                       where, (double)*calib_field(&copy, bad), why);
+    } else {
+        (void)snprintf(err, cap, "the application rejects the configuration (%s): %s", tv_status_str(rc), why);
+    }
 }
 
 /* Seconds to whole microseconds, rounded, saturating (NaN and negatives: 0). */
@@ -301,7 +333,7 @@ int replay_run(rlr_t *r, const replay_options_t *o, replay_stats_t *st)
         if (rc == TV_OK) {
             rc = app_init(&app, &cfg);
             if (rc != TV_OK) {
-                explain_config(&cfg, rc, err, sizeof err);
+                explain_config(r, o, &cfg, rc, err, sizeof err);
             }
         }
     }
