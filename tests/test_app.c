@@ -105,10 +105,78 @@ static void test_excitation_phase_is_exact_after_an_hour_and_a_day(void)
     }
 }
 
+/* An estimator that latched APP_FAULT_ESTIMATOR is running again after app_clear_faults() (it
+ * kept failing until a reset, issue 9). A diverged estimate (white box: a velocity of 1e30
+ * rad/s, where the map's output is not finite, so every predict is refused and the state stays
+ * as it is) makes every step fail; after the clear the next steps succeed, no fault comes back,
+ * and the health record shows the restart. */
+static void test_clearing_the_estimator_fault_restarts_the_estimator(void)
+{
+    app_config_t cfg;
+    app_t app;
+    app_output_t out;
+    app_input_t in;
+    ekf_health_t h;
+    uint64_t t_us = 1000u;
+    int k;
+    app_config_default(&cfg);
+    cfg.control.mode = APP_MODE_OFF;
+    TV_CHECK_EQ_INT(app_init(&app, &cfg), TV_OK);
+    in = sample_at(&app, t_us);
+    app_step(&app, &in, &out);
+    app.ekf.x[TVM_W] = TV_R(1e30);
+    for (k = 0; k < 2 * (int)cfg.limits.debounce_trip + 2; ++k) {
+        t_us += 1000u;
+        in = sample_at(&app, t_us);
+        app_step(&app, &in, &out);
+    }
+    TV_CHECK(out.ekf_status != TV_OK);
+    TV_CHECK((out.faults & APP_FAULT_ESTIMATOR) != 0u);
+    app_clear_faults(&app);
+    TV_CHECK_EQ_INT(app.n_estimator_resets, 1);
+    for (k = 0; k < 20; ++k) {
+        t_us += 1000u;
+        in = sample_at(&app, t_us);
+        app_step(&app, &in, &out);
+        TV_CHECK_EQ_INT(out.ekf_status, TV_OK);
+    }
+    TV_CHECK_EQ_INT(out.faults, 0);
+    ekf_health(&app.ekf, &h);
+    TV_CHECK_EQ_INT(h.n_predict, 20);
+    TV_CHECK_EQ_INT(h.n_rejected, 0);
+}
+
+/* The health record counts each engagement of the variance bounds: a velocity-variance ceiling
+ * of 1e-6 (rad/s)^2, far below the filter's steady 1.6e-3, engages on every predict and correct. */
+static void test_health_record_counts_variance_bounds(void)
+{
+    app_config_t cfg;
+    app_t app;
+    app_output_t out;
+    app_input_t in;
+    ekf_health_t h;
+    app_config_default(&cfg);
+    cfg.control.mode = APP_MODE_OFF;
+    cfg.ekf.var_ceil[TVM_W] = TV_R(1e-6);
+    cfg.ekf.P0[TVM_W][TVM_W] = TV_R(1e-7);
+    TV_CHECK_EQ_INT(app_init(&app, &cfg), TV_OK);
+    in = sample_at(&app, 1000u);
+    app_step(&app, &in, &out);
+    in = sample_at(&app, 2000u);
+    app_step(&app, &in, &out);
+    ekf_health(&app.ekf, &h);
+    TV_CHECK(h.n_ceil[TVM_W] >= 1u);
+    TV_CHECK_EQ_INT(h.n_ceil[TVM_I], 0);
+    TV_CHECK_EQ_INT(h.n_floor[TVM_W], 0);
+    TV_CHECK_EQ_INT(h.n_predict, 2);
+}
+
 int main(void)
 {
     TV_TEST_RUN(test_gap_is_predicted_across_one_period_at_a_time);
     TV_TEST_RUN(test_gap_limit_is_validated);
     TV_TEST_RUN(test_excitation_phase_is_exact_after_an_hour_and_a_day);
+    TV_TEST_RUN(test_clearing_the_estimator_fault_restarts_the_estimator);
+    TV_TEST_RUN(test_health_record_counts_variance_bounds);
     return tv_test_summary();
 }

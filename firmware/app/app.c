@@ -142,10 +142,25 @@ int app_init(app_t *app, const app_config_t *cfg)
     return TV_OK;
 }
 
+static tv_real_t open_bridge_voltage(const app_t *app);
+
 void app_clear_faults(app_t *app)
 {
     if (app == NULL) {
         return;
+    }
+    if ((app->faults & APP_FAULT_ESTIMATOR) != 0u) {
+        /* The filter refused its inputs again and again: its state or covariance went where the
+         * map cannot take it (each refused call leaves them as they are), so clearing the flag
+         * alone let it fail on. Start it afresh from its configured x0 and P0: the configuration
+         * was validated by app_init(), so ekf_init() cannot refuse it here. */
+        (void)ekf_init(&app->ekf, &app->cfg.model, &app->cfg.ekf);
+        app->have_last_angle = 0u;
+        /* the outputs are off while a fault is latched: the period now running is open-bridge,
+         * seen from the fresh estimate (the old input was computed from the refused one) */
+        app->u_applied_V = open_bridge_voltage(app);
+        app->open_after_missed = 0u;
+        ++app->n_estimator_resets;
     }
     app->faults = 0u;
     memset(app->debounce, 0, sizeof app->debounce);
@@ -200,7 +215,9 @@ static tv_real_t open_bridge_voltage(const app_t *app)
     }
     /* b_T = b (1 + a + ... + a^(N-1)) */
     b_T = m->a < TV_R(1.0) ? m->b_A_V * (TV_R(1.0) - a_T) / (TV_R(1.0) - m->a) : m->b_A_V * (tv_real_t)m->p.substeps;
-    return m->nKe_V_s * app->ekf.x[TVM_W] - a_T / b_T * app->ekf.x[TVM_I];
+    tv_real_t x[TVM_NX];
+    ekf_state(&app->ekf, x);
+    return m->nKe_V_s * x[TVM_W] - a_T / b_T * x[TVM_I];
 }
 
 void app_outputs_forced_off(app_t *app)
@@ -295,8 +312,10 @@ static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
         const tv_real_t lo = p->phi_closed_rad + c->target_margin_rad;
         const tv_real_t hi = p->phi_open_rad - c->target_margin_rad;
         const tv_real_t target = clamp(c->target_rad, lo, hi);
-        const tv_real_t phi = app->ekf.x[TVM_PHI];
-        const tv_real_t w = app->ekf.x[TVM_W];
+        tv_real_t x[TVM_NX];
+        ekf_state(&app->ekf, x);
+        const tv_real_t phi = x[TVM_PHI];
+        const tv_real_t w = x[TVM_W];
         const tv_real_t e = target - phi;
         const tv_real_t e_phi = p->e_phi_rad;
         const tv_real_t sp = target / TV_SQRT(target * target + e_phi * e_phi);
@@ -460,7 +479,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     }
 
     memcpy(out->z, meas.z, sizeof out->z);
-    memcpy(out->x, app->ekf.x, sizeof out->x);
+    ekf_state(&app->ekf, out->x);
     ekf_sigma(&app->ekf, out->sigma);
     out->faults = app->faults;
     ++app->n_steps;

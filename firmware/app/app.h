@@ -163,6 +163,7 @@ typedef struct {
     uint64_t last_angle_t_us; /**< its sample time [us] */
     uint8_t have_last_angle;  /**< 1 once a plausible angle was seen */
     tv_real_t integ_V;        /**< PID integral state [V] */
+    uint32_t n_estimator_resets; /**< times app_clear_faults() restarted the estimator */
 } app_t;
 
 /**
@@ -185,7 +186,11 @@ int app_init(app_t *app, const app_config_t *cfg);
  */
 void app_step(app_t *app, const app_input_t *in, app_output_t *out);
 
-/** Clear latched faults (e.g. on a CAN command); the debounce counters restart. */
+/**
+ * Clear latched faults (e.g. on a CAN command); the debounce counters restart. When
+ * APP_FAULT_ESTIMATOR was latched the estimator restarts from its configured x0 and P0
+ * (app_t::n_estimator_resets counts it): the state it kept refusing would be refused for ever.
+ */
 void app_clear_faults(app_t *app);
 
 /**

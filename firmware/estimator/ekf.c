@@ -77,7 +77,8 @@ static int principal_minors_ok(const tv_real_t *A, int strict)
 }
 
 /* Hold the variances inside [floor, ceil]; a ceiling scales row and column (keeps correlations). */
-static void apply_variance_bounds(mat3_t P, const tv_real_t floor_[TVM_NX], const tv_real_t ceil_[TVM_NX])
+static void apply_variance_bounds(mat3_t P, const tv_real_t floor_[TVM_NX], const tv_real_t ceil_[TVM_NX],
+                                  uint32_t n_floor[TVM_NX], uint32_t n_ceil[TVM_NX])
 {
     int a;
     int b;
@@ -85,7 +86,9 @@ static void apply_variance_bounds(mat3_t P, const tv_real_t floor_[TVM_NX], cons
     for (a = 0; a < TVM_NX; ++a) {
         if (P[a][a] < floor_[a]) {
             P[a][a] = floor_[a];
+            ++n_floor[a];
         } else if (P[a][a] > ceil_[a]) {
+            ++n_ceil[a];
             const tv_real_t s = TV_SQRT(ceil_[a] / P[a][a]);
             TV_UNROLL3
             for (b = 0; b < TVM_NX; ++b) {
@@ -276,7 +279,7 @@ int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX
             Pn[b][a] = Pn[a][b];
         }
     }
-    apply_variance_bounds(Pn, ekf->cfg.var_floor, ekf->cfg.var_ceil);
+    apply_variance_bounds(Pn, ekf->cfg.var_floor, ekf->cfg.var_ceil, ekf->n_floor, ekf->n_ceil);
     if (!estimate_sane(x_pred, &Pn[0][0])) {
         ++ekf->n_rejected;
         return TV_ERR_NUMERIC;
@@ -429,7 +432,7 @@ int ekf_correct(ekf_t *ekf, const ekf_meas_t *meas, ekf_innov_t *out)
             ++res.n_used;
         }
     }
-    apply_variance_bounds(P, ekf->cfg.var_floor, ekf->cfg.var_ceil);
+    apply_variance_bounds(P, ekf->cfg.var_floor, ekf->cfg.var_ceil, ekf->n_floor, ekf->n_ceil);
     if (!estimate_sane(x, &P[0][0]) || !TV_IS_FINITE(res.nis_total)) {
         ++ekf->n_rejected;
         if (out != NULL) {
@@ -455,4 +458,23 @@ void ekf_sigma(const ekf_t *ekf, tv_real_t sigma[TVM_NX])
     for (a = 0; a < TVM_NX; ++a) {
         sigma[a] = TV_SQRT(ekf->P[a][a]);
     }
+}
+
+void ekf_state(const ekf_t *ekf, tv_real_t x[TVM_NX])
+{
+    memcpy(x, ekf->x, sizeof ekf->x);
+}
+
+void ekf_covariance(const ekf_t *ekf, tv_real_t P[TVM_NX][TVM_NX])
+{
+    memcpy(P, ekf->P, sizeof ekf->P);
+}
+
+void ekf_health(const ekf_t *ekf, ekf_health_t *h)
+{
+    h->n_predict = ekf->n_predict;
+    h->n_correct = ekf->n_correct;
+    h->n_rejected = ekf->n_rejected;
+    memcpy(h->n_floor, ekf->n_floor, sizeof h->n_floor);
+    memcpy(h->n_ceil, ekf->n_ceil, sizeof h->n_ceil);
 }

@@ -75,7 +75,22 @@ typedef struct {
     uint32_t n_predict;                 /**< accepted predictions */
     uint32_t n_correct;                 /**< accepted corrections */
     uint32_t n_rejected;                /**< calls rejected for bad input or numerical failure */
+    uint32_t n_floor[TVM_NX];           /**< times each variance was raised to its floor */
+    uint32_t n_ceil[TVM_NX];            /**< times each variance was scaled down to its ceiling */
 } ekf_t;
+
+/**
+ * Health record of a filter: how often it ran, refused, and leaned on its variance bounds. A
+ * bound that engages often says the noise model does not fit (floors: the filter claims more
+ * certainty than the arithmetic can hold; ceilings: a state is not observed).
+ */
+typedef struct {
+    uint32_t n_predict;       /**< accepted predictions */
+    uint32_t n_correct;       /**< accepted corrections */
+    uint32_t n_rejected;      /**< calls rejected for bad input or numerical failure */
+    uint32_t n_floor[TVM_NX]; /**< per state (i, w, phi): variance raised to var_floor */
+    uint32_t n_ceil[TVM_NX];  /**< per state: variance scaled down to var_ceil */
+} ekf_health_t;
 
 /** Measurement vector for one sample; the velocity entry is ignored in EKF_SETUP_CURRENT_ANGLE. */
 typedef struct {
@@ -151,6 +166,15 @@ int ekf_correct(ekf_t *ekf, const ekf_meas_t *meas, ekf_innov_t *out);
 
 /** Standard deviations sqrt(P_ii) of the estimate (A, rad/s, rad). */
 void ekf_sigma(const ekf_t *ekf, tv_real_t sigma[TVM_NX]);
+
+/** The state estimate x = (i [A], w [rad/s], phi [rad]). */
+void ekf_state(const ekf_t *ekf, tv_real_t x[TVM_NX]);
+
+/** The estimate covariance P (variances: A^2, (rad/s)^2, rad^2; symmetric positive definite). */
+void ekf_covariance(const ekf_t *ekf, tv_real_t P[TVM_NX][TVM_NX]);
+
+/** The filter's health record (counters since ekf_init()). */
+void ekf_health(const ekf_t *ekf, ekf_health_t *h);
 
 #ifdef __cplusplus
 }

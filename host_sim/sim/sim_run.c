@@ -319,12 +319,14 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         row.nis = out.innov.n_used > 0u ? (double)out.innov.nis_total : SIM_NAN;
         {
             double P[TVM_NX][TVM_NX];
+            tv_real_t Pf[TVM_NX][TVM_NX];
             double err[TVM_NX];
             int b;
+            ekf_covariance(&app->ekf, Pf);
             for (a = 0; a < TVM_NX; ++a) {
                 err[a] = row.x[a] - tr[a];
                 for (b = 0; b < TVM_NX; ++b) {
-                    P[a][b] = (double)app->ekf.P[a][b];
+                    P[a][b] = (double)Pf[a][b];
                 }
             }
             row.nees = sim_mahalanobis3(P, err);
