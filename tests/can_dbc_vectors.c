@@ -12,7 +12,7 @@
  *                              the value the DBC must decode for that signal of the last FRAME
  *
  * Two kinds of vectors:
- *   typed  - the public encoders (can_proto_encode_control/excitation/telemetry) fed known
+ *   typed  - the public encoders (can_host_encode_control/excitation/telemetry) fed known
  *            values; EXPECT holds the value put into the C struct field, so a signal wired to
  *            the wrong field, a wrong scale, start bit, length or sign fails. Tolerance: half
  *            a count of the signal's scale (the encoding's rounding), plus float rounding.
@@ -24,6 +24,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "can_host.h"
 #include "can_proto.h"
 #include "tv_status.h"
 
@@ -107,7 +108,7 @@ static void typed_commands(void)
         cmd.target_rad = c[i].target;
         cmd.duty_limit = c[i].limit;
         cmd.fault_clear = c[i].clear;
-        if (can_proto_encode_control(&cmd, (uint8_t)(i * 3u % 16u), &f) != TV_OK) {
+        if (can_host_encode_control(&cmd, (uint8_t)(i * 3u % 16u), &f) != TV_OK) {
             printf("ERROR encode_control %u\n", (unsigned)i);
             continue;
         }
@@ -125,7 +126,7 @@ static void typed_commands(void)
         cmd.freq_Hz = e[i].f0;
         cmd.chirp_f1_Hz = e[i].f1;
         cmd.chirp_period_s = e[i].period;
-        if (can_proto_encode_excitation(&cmd, (uint8_t)(15u - i), &f) != TV_OK) {
+        if (can_host_encode_excitation(&cmd, (uint8_t)(15u - i), &f) != TV_OK) {
             printf("ERROR encode_excitation %u\n", (unsigned)i);
             continue;
         }

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "can_host.h"
 #include "can_proto.h"
 #include "tv_status.h"
 #include "tv_test.h"
@@ -39,7 +40,7 @@ static hal_can_frame_t control_frame(app_mode_t mode, float target, float duty_l
     c.duty_limit = duty_limit;
     c.fault_clear = clear;
     memset(&f, 0, sizeof f);
-    TV_CHECK_EQ_INT(can_proto_encode_control(&c, ctr, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, ctr, &f), TV_OK);
     return f;
 }
 
@@ -52,7 +53,7 @@ static hal_can_frame_t excitation_frame(float amp, float f0, float f1, float per
     e.chirp_f1_Hz = f1;
     e.chirp_period_s = period;
     memset(&f, 0, sizeof f);
-    TV_CHECK_EQ_INT(can_proto_encode_excitation(&e, ctr, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_host_encode_excitation(&e, ctr, &f), TV_OK);
     return f;
 }
 
@@ -211,34 +212,34 @@ static void test_command_encoder_refuses_out_of_range(void)
     can_proto_control_t c = {APP_MODE_SINE, 0.3f, 0.9f, 0u};
     can_proto_excitation_t e = {12.0f, 5.0f, 20.0f, 2.0f};
     hal_can_frame_t f;
-    TV_CHECK_EQ_INT(can_proto_encode_control(&c, 16u, &f), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 16u, &f), TV_ERR_RANGE);
     c.target_rad = 2.01f;
-    TV_CHECK_EQ_INT(can_proto_encode_control(&c, 0u, &f), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_RANGE);
     c.target_rad = -0.51f;
-    TV_CHECK_EQ_INT(can_proto_encode_control(&c, 0u, &f), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_RANGE);
     c.target_rad = (float)NAN;
-    TV_CHECK_EQ_INT(can_proto_encode_control(&c, 0u, &f), TV_ERR_NONFINITE);
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_NONFINITE);
     c.target_rad = 0.3f;
     c.duty_limit = 0.0f;
-    TV_CHECK_EQ_INT(can_proto_encode_control(&c, 0u, &f), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_RANGE);
     c.duty_limit = 1.01f;
-    TV_CHECK_EQ_INT(can_proto_encode_control(&c, 0u, &f), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_RANGE);
     c.duty_limit = 0.9f;
     c.mode = (app_mode_t)5;
-    TV_CHECK_EQ_INT(can_proto_encode_control(&c, 0u, &f), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_RANGE);
     e.amplitude_V = 24.1f;
-    TV_CHECK_EQ_INT(can_proto_encode_excitation(&e, 0u, &f), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(can_host_encode_excitation(&e, 0u, &f), TV_ERR_RANGE);
     e.amplitude_V = -0.1f;
-    TV_CHECK_EQ_INT(can_proto_encode_excitation(&e, 0u, &f), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(can_host_encode_excitation(&e, 0u, &f), TV_ERR_RANGE);
     e.amplitude_V = 12.0f;
     e.freq_Hz = 200.02f;
-    TV_CHECK_EQ_INT(can_proto_encode_excitation(&e, 0u, &f), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(can_host_encode_excitation(&e, 0u, &f), TV_ERR_RANGE);
     e.freq_Hz = 5.0f;
     e.chirp_period_s = 0.0f;
-    TV_CHECK_EQ_INT(can_proto_encode_excitation(&e, 0u, &f), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(can_host_encode_excitation(&e, 0u, &f), TV_ERR_RANGE);
     e.chirp_period_s = (float)INFINITY;
-    TV_CHECK_EQ_INT(can_proto_encode_excitation(&e, 0u, &f), TV_ERR_NONFINITE);
-    TV_CHECK_EQ_INT(can_proto_encode_excitation(NULL, 0u, &f), TV_ERR_NULL);
+    TV_CHECK_EQ_INT(can_host_encode_excitation(&e, 0u, &f), TV_ERR_NONFINITE);
+    TV_CHECK_EQ_INT(can_host_encode_excitation(NULL, 0u, &f), TV_ERR_NULL);
 }
 
 /* Telemetry round trips within half a count; beyond the representable range it saturates;
@@ -291,7 +292,7 @@ static void test_telemetry_round_trips_and_saturates(void)
     for (i = 0; i < CAN_PROTO_N_TX; ++i) {
         const can_proto_msg_t *m = can_proto_msg_at(CAN_PROTO_N_CMD + i);
         TV_CHECK_EQ_INT(can_proto_encode_telemetry(m->id, &tm, (uint8_t)i, &f), TV_OK);
-        TV_CHECK_EQ_INT(can_proto_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+        TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
         TV_CHECK_EQ_INT(can_proto_frame_counter(&f), i);
     }
     /* half a count of each scale, plus float rounding of the value itself */
@@ -307,7 +308,7 @@ static void test_telemetry_round_trips_and_saturates(void)
     TV_CHECK_NEAR(back.nis, 3.21, 0.005 + 1e-6);
     tm.nis = 100.0f; /* saturates at 40.95 */
     TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_STATUS, &tm, 0u, &f), TV_OK);
-    TV_CHECK_EQ_INT(can_proto_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
     TV_CHECK_NEAR(back.nis, 40.95, 1e-4);
     TV_CHECK_NEAR(back.duty, -0.4321, 0.00005 + 1e-7);
     TV_CHECK_NEAR(back.meas_current_A, -1.5, 0.0005);
@@ -341,14 +342,14 @@ static void test_telemetry_round_trips_and_saturates(void)
     tm.est[1] = -1e6f;
     tm.est[2] = (float)NAN;
     TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_EST_STATE, &tm, 0u, &f), TV_OK);
-    TV_CHECK_EQ_INT(can_proto_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
     TV_CHECK_NEAR(back.est[0], 32.767, 1e-5);
     TV_CHECK_NEAR(back.est[1], -327.68, 1e-4);
     TV_CHECK_NEAR(back.est[2], 0.0, 0.0);
     tm.sigma[0] = -1.0f; /* cannot happen; unsigned field saturates at 0 */
     tm.sigma[2] = 10.0f;
     TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_EST_SIGMA, &tm, 0u, &f), TV_OK);
-    TV_CHECK_EQ_INT(can_proto_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
     TV_CHECK_NEAR(back.sigma[0], 0.0, 0.0);
     TV_CHECK_NEAR(back.sigma[2], 0.065535, 1e-8);
     /* not telemetry */
@@ -757,7 +758,7 @@ static void test_ekf_stats_window_mean(void)
         m = can_proto_node_transmit(&n, &app, &out, NULL, 0, t, frames);
         for (i = 0; i < m; ++i) {
             if (frames[i].id == CAN_PROTO_ID_EKF_STATS) {
-                TV_CHECK_EQ_INT(can_proto_decode_telemetry(&frames[i], &tm), CAN_PROTO_RX_ACCEPTED);
+                TV_CHECK_EQ_INT(can_host_decode_telemetry(&frames[i], &tm), CAN_PROTO_RX_ACCEPTED);
                 ++seen;
             }
         }

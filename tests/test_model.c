@@ -9,6 +9,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "tv_deriv.h"
 #include "tv_model.h"
 #include "tv_test.h"
 

@@ -153,20 +153,6 @@ static tv_real_t preload_sign(tv_real_t phi, tv_real_t e, tv_real_t *d_dphi)
     return phi / r;
 }
 
-void tvm_deriv(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_t dxdt[TVM_NX])
-{
-    const tv_real_t i = x[TVM_I];
-    const tv_real_t w = x[TVM_W];
-    const tv_real_t phi = x[TVM_PHI];
-    const tv_real_t sw = w / TV_SQRT(w * w + m->p.e_w_rad_s * m->p.e_w_rad_s);
-    const tv_real_t mf = friction_level(m, w, NULL) * sw + m->p.Kv_Nm_s_rad * w;
-    const tv_real_t torque = m->nKt_Nm_A * i - m->p.M0_Nm * preload_sign(phi, m->p.e_phi_rad, NULL) -
-                             m->p.c_Nm_rad * phi - mf + stop_torque(m, phi, w, NULL, NULL);
-    dxdt[TVM_I] = (u_V - m->p.R_ohm * i - m->nKe_V_s * w) / m->p.L_H;
-    dxdt[TVM_W] = torque / m->p.J_kg_m2;
-    dxdt[TVM_PHI] = w;
-}
-
 /* C = A * B for 3x3 matrices (C must not alias A or B). */
 static void mat3_mul(tv_real_t A[TVM_NX][TVM_NX], tv_real_t B[TVM_NX][TVM_NX], tv_real_t C[TVM_NX][TVM_NX])
 {

@@ -129,12 +129,6 @@ tv_real_t tvm_friction_level(const tvm_t *m, tv_real_t w_rad_s);
 /** Hard-stop torque on the plate [N m], positive = opening, at angle phi [rad] and velocity w. */
 tv_real_t tvm_stop_torque(const tvm_t *m, tv_real_t phi_rad, tv_real_t w_rad_s);
 
-/**
- * Continuous-time right-hand side dx/dt at x, u, with the friction sign smoothed as
- * sgn(w) ~ w / sqrt(w^2 + e_w^2). For analysis and tests (the map above treats friction
- * implicitly instead and does not call this).
- */
-void tvm_deriv(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_t dxdt[TVM_NX]);
 
 /**
  * One step of the discrete prediction map over Ts: x_next = f(x, u), and optionally its

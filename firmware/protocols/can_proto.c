@@ -363,39 +363,6 @@ int can_proto_check(const hal_can_frame_t *frame)
 
 /* ---- typed commands ----------------------------------------------------------------------- */
 
-int can_proto_encode_control(const can_proto_control_t *cmd, uint8_t counter, hal_can_frame_t *frame)
-{
-    float phys[6];
-    if (cmd == NULL || frame == NULL) {
-        return TV_ERR_NULL;
-    }
-    phys[0] = 0.0f;
-    phys[1] = 0.0f;
-    phys[2] = (float)(unsigned)cmd->mode;
-    phys[3] = cmd->target_rad;
-    phys[4] = cmd->duty_limit;
-    phys[5] = cmd->fault_clear != 0u ? 1.0f : 0.0f;
-    if ((unsigned)cmd->mode > (unsigned)APP_MODE_POSITION) {
-        return TV_ERR_RANGE;
-    }
-    return can_proto_pack(&s_msgs[0], phys, counter, 0, frame);
-}
-
-int can_proto_encode_excitation(const can_proto_excitation_t *cmd, uint8_t counter, hal_can_frame_t *frame)
-{
-    float phys[6];
-    if (cmd == NULL || frame == NULL) {
-        return TV_ERR_NULL;
-    }
-    phys[0] = 0.0f;
-    phys[1] = 0.0f;
-    phys[2] = cmd->amplitude_V;
-    phys[3] = cmd->freq_Hz;
-    phys[4] = cmd->chirp_f1_Hz;
-    phys[5] = cmd->chirp_period_s;
-    return can_proto_pack(&s_msgs[1], phys, counter, 0, frame);
-}
-
 /* Validate a command frame of table entry k (id, CRC, counter field) and unpack its signals. */
 static int unpack_command(const hal_can_frame_t *frame, size_t k, float *phys)
 {
@@ -570,82 +537,6 @@ int can_proto_encode_ecu_cpu(uint32_t cycles_max, uint32_t cycles_mean, uint32_t
         return TV_ERR_NULL;
     }
     return can_proto_pack(&s_msgs[CAN_PROTO_N_CMD + CAN_PROTO_N_TX], phys, counter, 1, frame);
-}
-
-static uint32_t u32_of(float v)
-{
-    return v <= 0.0f ? 0u : (uint32_t)(v + 0.5f);
-}
-
-int can_proto_decode_telemetry(const hal_can_frame_t *frame, can_proto_telemetry_t *tm)
-{
-    float p[CAN_PROTO_MAX_SIGNALS] = {0.0f};
-    const can_proto_msg_t *msg;
-    int rc;
-    if (frame == NULL || tm == NULL) {
-        return TV_ERR_NULL;
-    }
-    msg = frame->extended ? NULL : can_proto_find_msg(frame->id);
-    if (msg == NULL || msg->is_command) {
-        return CAN_PROTO_RX_UNKNOWN_ID;
-    }
-    rc = can_proto_check(frame);
-    if (rc != CAN_PROTO_RX_ACCEPTED) {
-        return rc;
-    }
-    (void)can_proto_unpack(msg, frame, p);
-    switch (frame->id) {
-    case CAN_PROTO_ID_EST_STATE:
-        memcpy(tm->est, &p[2], sizeof tm->est);
-        break;
-    case CAN_PROTO_ID_EST_SIGMA:
-        memcpy(tm->sigma, &p[2], sizeof tm->sigma);
-        break;
-    case CAN_PROTO_ID_EST_INNOV:
-        memcpy(tm->innov, &p[2], sizeof tm->innov);
-        break;
-    case CAN_PROTO_ID_STATUS:
-        tm->mode = (uint8_t)u32_of(p[2]);
-        tm->faults = (uint16_t)u32_of(p[3]);
-        tm->bridge_enable = (uint8_t)u32_of(p[4]);
-        tm->ekf_ok = (uint8_t)u32_of(p[5]);
-        tm->cmd_active = (uint8_t)u32_of(p[6]);
-        tm->cmd_timeout = (uint8_t)u32_of(p[7]);
-        tm->channels_used = (uint8_t)u32_of(p[8]);
-        tm->hal_error = (uint8_t)u32_of(p[9]);
-        tm->nis = p[10];
-        tm->duty = p[11];
-        break;
-    case CAN_PROTO_ID_MEAS:
-        tm->meas_current_A = p[2];
-        tm->meas_angle_rad = p[3];
-        tm->supply_V = p[4];
-        break;
-    case CAN_PROTO_ID_LOOP:
-        tm->loop.overruns = u32_of(p[2]);
-        tm->loop.latency_max_us = u32_of(p[3]);
-        tm->loop.exec_max_us = u32_of(p[4]);
-        break;
-    case CAN_PROTO_ID_CMD_STATS:
-        tm->rx.timeouts = u32_of(p[2]);
-        tm->rx.accepted = u32_of(p[3]);
-        tm->rx.crc = u32_of(p[4]);
-        tm->rx.repeated = u32_of(p[5]); /* repeated + sequence, as sent */
-        tm->rx.sequence = 0u;
-        tm->rx.dlc = u32_of(p[6]);
-        tm->rx.range = u32_of(p[7]);
-        tm->rx.unknown = u32_of(p[8]);
-        break;
-    case CAN_PROTO_ID_TIME:
-        tm->loop.sample_time_us = get_bits(frame->data, 16u, 32u);
-        break;
-    default: /* CAN_PROTO_ID_EKF_STATS, the only telemetry id left */
-        tm->nis_mean = p[2];
-        tm->corrections = u32_of(p[3]);
-        tm->ekf_rejected = u32_of(p[4]);
-        break;
-    }
-    return CAN_PROTO_RX_ACCEPTED;
 }
 
 /* ---- the node ----------------------------------------------------------------------------- */

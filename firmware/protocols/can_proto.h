@@ -367,16 +367,6 @@ int can_proto_check(const hal_can_frame_t *frame);
 /* ---- typed commands ----------------------------------------------------------------------- */
 
 /**
- * Encode TV_CMD_CONTROL (for commanders and tests).
- * @return TV_OK; TV_ERR_NULL; TV_ERR_RANGE / TV_ERR_NONFINITE when a value is outside its
- *         valid range or counter > 15.
- */
-int can_proto_encode_control(const can_proto_control_t *cmd, uint8_t counter, hal_can_frame_t *frame);
-
-/** Encode TV_CMD_EXCITATION; returns as can_proto_encode_control(). */
-int can_proto_encode_excitation(const can_proto_excitation_t *cmd, uint8_t counter, hal_can_frame_t *frame);
-
-/**
  * Decode and check a TV_CMD_CONTROL frame (DLC, CRC, ranges; not the counter).
  * @return a can_proto_rx_result_t (ACCEPTED when *cmd was written); TV_ERR_NULL.
  */
@@ -411,14 +401,6 @@ int can_proto_encode_telemetry(uint32_t id, const can_proto_telemetry_t *tm, uin
  */
 int can_proto_encode_ecu_cpu(uint32_t cycles_max, uint32_t cycles_mean, uint32_t over_budget, uint8_t counter,
                              hal_can_frame_t *frame);
-
-/**
- * Decode one telemetry frame into the fields of *tm that frame carries (others untouched).
- * Counters arrive modulo their field widths.
- * @return a can_proto_rx_result_t from the DLC and CRC checks (ACCEPTED when decoded), or
- *         CAN_PROTO_RX_UNKNOWN_ID for a non-telemetry id; TV_ERR_NULL.
- */
-int can_proto_decode_telemetry(const hal_can_frame_t *frame, can_proto_telemetry_t *tm);
 
 /* ---- the node ----------------------------------------------------------------------------- */
 

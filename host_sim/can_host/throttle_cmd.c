@@ -32,6 +32,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "can_host.h"
 #include "can_proto.h"
 #include "lx_can.h"
 #include "lx_config.h"
@@ -142,7 +143,7 @@ static int send_control(lx_can_t *can, cmd_state_t *st)
     hal_can_frame_t f;
     can_proto_control_t c = st->ctl;
     c.fault_clear = st->clear_left > 0u ? 1u : 0u;
-    if (can_proto_encode_control(&c, st->ctr_ctl, &f) != TV_OK) {
+    if (can_host_encode_control(&c, st->ctr_ctl, &f) != TV_OK) {
         return -1;
     }
     if (st->clear_left > 0u) {
@@ -158,7 +159,7 @@ static int send_control(lx_can_t *can, cmd_state_t *st)
 static int send_excitation(lx_can_t *can, cmd_state_t *st)
 {
     hal_can_frame_t f;
-    if (can_proto_encode_excitation(&st->exc, st->ctr_exc, &f) != TV_OK) {
+    if (can_host_encode_excitation(&st->exc, st->ctr_exc, &f) != TV_OK) {
         return -1;
     }
     st->ctr_exc = (uint8_t)((st->ctr_exc + 1u) & 15u);
@@ -171,7 +172,7 @@ static int inject(lx_can_t *can, cmd_state_t *st, const char *kind)
     hal_can_frame_t f;
     can_proto_control_t c = st->ctl;
     c.fault_clear = 0u;
-    if (can_proto_encode_control(&c, st->ctr_ctl, &f) != TV_OK) {
+    if (can_host_encode_control(&c, st->ctr_ctl, &f) != TV_OK) {
         return -1;
     }
     if (strcmp(kind, "crc") == 0) {
@@ -184,7 +185,7 @@ static int inject(lx_can_t *can, cmd_state_t *st, const char *kind)
         }
         f = st->last_ctl;
     } else if (strcmp(kind, "stale") == 0) {
-        (void)can_proto_encode_control(&c, (uint8_t)((st->ctr_ctl + 14u) & 15u), &f);
+        (void)can_host_encode_control(&c, (uint8_t)((st->ctr_ctl + 14u) & 15u), &f);
     } else if (strcmp(kind, "range") == 0) {
         f.data[1] = (uint8_t)((f.data[1] & 0x0Fu) | 0x70u);
         f.data[0] = can_proto_frame_crc(&f);
@@ -373,8 +374,8 @@ int main(int argc, char **argv)
     }
     {
         hal_can_frame_t probe;
-        if (can_proto_encode_control(&st.ctl, 0u, &probe) != TV_OK ||
-            can_proto_encode_excitation(&st.exc, 0u, &probe) != TV_OK) {
+        if (can_host_encode_control(&st.ctl, 0u, &probe) != TV_OK ||
+            can_host_encode_excitation(&st.exc, 0u, &probe) != TV_OK) {
             fprintf(stderr, "throttle_cmd: a value is outside its range (see firmware/protocols/can_proto.h)\n");
             return 2;
         }

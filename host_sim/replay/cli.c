@@ -59,7 +59,8 @@ int cli_usage_error(const char *prog, const char *fmt, ...)
     va_list ap;
     fprintf(stderr, "%s: ", prog);
     va_start(ap, fmt);
-    (void)vfprintf(stderr, fmt, ap);
+    /* va_start is right above: a false positive of clang-analyzer-valist.Uninitialized */
+    (void)vfprintf(stderr, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized) */
     va_end(ap);
     fprintf(stderr, "\ntry '%s --help'\n", prog);
     return CLI_EXIT_USAGE;

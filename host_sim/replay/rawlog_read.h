@@ -36,7 +36,7 @@ extern "C" {
 #define RLR_LINE_MAX 4096u
 /** A line longer than RLR_LINE_MAX is skipped (recoverable) up to this many bytes; beyond, or with
  *  a NUL byte in it, the input is not a text log and reading stops (fatal). */
-#define RLR_LONG_LINE_SKIP_MAX (64u * 1024u * 1024u)
+#define RLR_LONG_LINE_SKIP_MAX 67108864u /* 64 MiB */
 /** Input buffer [bytes] (holds at least one longest line). */
 #define RLR_BUF_SIZE 65536u
 /** Longest message [bytes, terminator included]. */

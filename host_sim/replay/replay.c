@@ -159,7 +159,6 @@ static void explain_config(const rlr_t *r, const replay_options_t *o, const app_
     const app_calib_t *k = &c->calib;
     const app_limits_t *l = &c->limits;
     const char *why = "the model or noise parameters are invalid (tvm_init / ekf_init)";
-    char where[PARAMS_NAME_MAX + 96];
     int bad = -1; /* calibration index */
     if (!(k->current_A_per_count != TV_R(0.0))) {
         why = "must not be 0";
@@ -179,6 +178,7 @@ static void explain_config(const rlr_t *r, const replay_options_t *o, const app_
         why = "a count limit's minimum is not below its maximum";
     }
     if (bad >= 0) {
+        char where[PARAMS_NAME_MAX + 96];
         app_calib_t copy = c->calib;
         calib_source(r, o, bad, where, sizeof where);
         (void)snprintf(err, cap, "the application rejects the configuration (%s): %s = %.9g %s", tv_status_str(rc),

@@ -16,6 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "can_host.h"
 #include "can_proto.h"
 #include "lx_can.h"
 #include "lx_config.h"
@@ -199,7 +200,7 @@ static void test_protocol_over_socketcan(void)
     can_proto_config_default(&pcfg);
     TV_CHECK_EQ_INT(can_proto_node_init(&node, &pcfg, &app), TV_OK);
     TV_CHECK_EQ_INT(lx_can_open(&c, "vcan0", err, sizeof err), TV_OK);
-    TV_CHECK_EQ_INT(can_proto_encode_control(&cmd, 0u, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_host_encode_control(&cmd, 0u, &f), TV_OK);
     TV_CHECK_EQ_INT(peer_send(f.id, f.dlc, f.data), 0);
     f.data[3] ^= 0x10u;
     TV_CHECK_EQ_INT(peer_send(f.id, f.dlc, f.data), 0);
