@@ -6,11 +6,14 @@
  *
  *   test_lx_config <path of firmware/linux_rt/throttle_linux.conf>
  */
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "lx_config.h"
 #include "tv_status.h"
+#include "params.h"
+#include "tv_param_table.h"
 #include "tv_test.h"
 
 static const char *s_example_path;
@@ -253,6 +256,53 @@ static void test_file_errors_named(void)
     }
 }
 
+/* One range per quantity: for every parameter of the table that the controller's configuration
+ * also sets, the controller and the host parameter files (params.c) both accept the bounds (or,
+ * for an open bound, a value just inside) and both refuse a value just outside (issue 9: they
+ * accepted different ranges, e.g. tps1_counts_at_zero [-65535, 65535] against [-1e6, 1e6]). */
+static void test_shared_keys_have_one_range(void)
+{
+    int id;
+    int shared = 0;
+    for (id = 0; id < (int)TVP_COUNT; ++id) {
+        const tvp_desc_t *d = tvp_desc(id);
+        const double scale = fabs(d->hi - d->lo) > 0.0 ? fabs(d->hi - d->lo) : 1.0;
+        const double eps = (d->flags & TVP_INTEGER) != 0u ? 1.0 : 1e-6 * scale;
+        const double in_lo = (d->flags & TVP_LO_OPEN) != 0u ? d->lo + eps : d->lo;
+        const double in_hi = (d->flags & TVP_HI_OPEN) != 0u ? d->hi - eps : d->hi;
+        const double out_lo = (d->flags & TVP_LO_OPEN) != 0u ? d->lo : d->lo - eps;
+        const double out_hi = (d->flags & TVP_HI_OPEN) != 0u ? d->hi : d->hi + eps;
+        const double vals[4] = {in_lo, in_hi, out_lo, out_hi};
+        static lx_config_t cfg;
+        char line[160];
+        char err[LX_ERR_LEN];
+        int k;
+        (void)snprintf(line, sizeof line, "%s = 1\n", d->key);
+        if (parse_with(line, &cfg, err, sizeof err) != TV_OK && strstr(err, "unknown key") != NULL) {
+            continue; /* not a key of the controller's configuration */
+        }
+        ++shared;
+        for (k = 0; k < 4; ++k) {
+            static params_t pf;
+            char perr[PARAMS_MSG_MAX];
+            const int want_ok = k < 2 && !((d->flags & TVP_NONZERO) != 0u && vals[k] == 0.0);
+            int lx_rc;
+            int pf_rc;
+            (void)snprintf(line, sizeof line, "%s = %.17g\n", d->key, vals[k]);
+            lx_rc = parse_with(line, &cfg, err, sizeof err);
+            params_init(&pf, "p.txt");
+            pf_rc = params_parse_text(&pf, line, strlen(line), perr, sizeof perr);
+            TV_CHECK_EQ_INT(lx_rc == TV_OK, want_ok);
+            TV_CHECK_EQ_INT(pf_rc == TV_OK, want_ok);
+            if ((lx_rc == TV_OK) != want_ok || (pf_rc == TV_OK) != want_ok) {
+                fprintf(stderr, "  %s: controller '%s', parameter file '%s'\n", line, err, perr);
+            }
+        }
+    }
+    printf("  %d keys shared by the controller's configuration and the parameter files\n", shared);
+    TV_CHECK_LE(7.0, (double)shared); /* the seven calib.* keys at least */
+}
+
 int main(int argc, char **argv)
 {
     s_example_path = argc > 1 ? argv[1] : "firmware/linux_rt/throttle_linux.conf";
@@ -263,5 +313,6 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_missing_required_keys_named);
     TV_TEST_RUN(test_conflicts_named);
     TV_TEST_RUN(test_file_errors_named);
+    TV_TEST_RUN(test_shared_keys_have_one_range);
     return tv_test_summary();
 }

@@ -122,13 +122,7 @@ static void header_for(const app_config_t *cfg, rawlog_header_t *h)
     rawlog_header_default(h);
     h->flags = RAWLOG_FLAG_TRUTH;
     h->records_per_block = 50u;
-    h->current_offset_counts = (double)c->current_offset_counts;
-    h->current_A_per_count = (double)c->current_A_per_count;
-    h->tps1_counts_at_zero = (double)c->tps1_counts_at_zero;
-    h->tps1_rad_per_count = (double)c->tps1_rad_per_count;
-    h->tps2_counts_at_zero = (double)c->tps2_counts_at_zero;
-    h->tps2_rad_per_count = (double)c->tps2_rad_per_count;
-    h->supply_V_per_count = (double)c->supply_V_per_count;
+    params_calib_to_header(c, h);
 }
 
 /*

@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "lx_err.h"
+#include "tv_param_table.h"
 #include "tv_status.h"
 
 /* Value types of the keys. */
@@ -210,9 +211,14 @@ static int store(const key_desc_t *k, const char *v, lx_config_t *cfg, const cha
         *why = "not a finite number";
         return TV_ERR_RANGE;
     }
-    if (d < k->min || d > k->max) {
-        *why = "out of range";
-        return TV_ERR_RANGE;
+    {
+        /* A quantity the project's parameter table knows has its range from there, the same as
+         * in every other configuration reader (tv_param_table.h); the others from s_keys. */
+        const int id = tvp_find(k->name);
+        if (id >= 0 ? tvp_check(id, d) != 0 : (d < k->min || d > k->max)) {
+            *why = "out of range";
+            return TV_ERR_RANGE;
+        }
     }
     switch (k->type) {
     case K_INT: {
@@ -348,7 +354,11 @@ int lx_config_parse(const char *text, const char *name, lx_config_t *cfg, char *
         seen[i] = 1u;
         rc = store(k, val, cfg, &why);
         if (rc != TV_OK) {
-            if (rc == TV_ERR_RANGE && k->type != K_STR && k->type != K_BOOL && k->type != K_MODE) {
+            if (rc == TV_ERR_RANGE && tvp_find(key) >= 0) {
+                char rng[96];
+                tvp_range_text(tvp_find(key), rng, sizeof rng);
+                lx_err_set(err, err_len, "%s:%u: %s = '%s': %s, allowed %s", name, line_no, key, val, why, rng);
+            } else if (rc == TV_ERR_RANGE && k->type != K_STR && k->type != K_BOOL && k->type != K_MODE) {
                 lx_err_set(err, err_len, "%s:%u: %s = '%s': %s [%g, %g]", name, line_no, key, val, why, k->min, k->max);
             } else if (k->type == K_STR && rc == TV_ERR_RANGE) {
                 lx_err_set(err, err_len, "%s:%u: %s = '%s': %s (at most %u characters)", name, line_no, key, val, why,

@@ -11,6 +11,7 @@
 #include <string.h>
 
 #include "ekf.h"
+#include "tv_param_table.h"
 #include "tv_status.h"
 
 /* Key indices (the order of the table and of params_write()). */
@@ -26,60 +27,9 @@ enum {
 
 typedef char params_nkeys_matches[(K_COUNT == PARAMS_NKEYS) ? 1 : -1];
 
-/* Range flags. */
-#define LO_OPEN 1u  /* value > lo (else >= lo) */
-#define HI_OPEN 2u  /* value < hi (else <= hi) */
-#define INTEGER 4u  /* integral values only */
-#define NONZERO 8u  /* 0 excluded */
-
-typedef struct {
-    const char *name;
-    double lo, hi;
-    unsigned flags;
-} params_key_t;
-
-static const params_key_t s_keys[K_COUNT] = {
-    {"model.R_ohm", 0.0, 1e3, LO_OPEN},
-    {"model.L_H", 0.0, 10.0, LO_OPEN},
-    {"model.Ke_V_s_rad", 0.0, 10.0, 0u},
-    {"model.Kt_Nm_A", 0.0, 10.0, 0u},
-    {"model.J_kg_m2", 0.0, 10.0, LO_OPEN},
-    {"model.n_gear", 0.0, 1e3, LO_OPEN},
-    {"model.Mc_Nm", 0.0, 100.0, 0u},
-    {"model.M0_Nm", 0.0, 100.0, 0u},
-    {"model.c_Nm_rad", 0.0, 1e3, 0u},
-    {"model.Kv_Nm_s_rad", 0.0, 100.0, 0u},
-    {"model.Ms_Nm", 0.0, 100.0, 0u},
-    {"model.ws_rad_s", 0.0, 1e3, LO_OPEN},
-    {"model.phi_closed_rad", -1.0, 0.0, HI_OPEN},
-    {"model.phi_open_rad", 0.0, 2.5, LO_OPEN},
-    {"model.k_stop_Nm_rad", 0.0, 1e7, 0u},
-    {"model.d_stop_Nm_s_rad", 0.0, 1e5, 0u},
-    {"model.e_phi_rad", 0.0, 0.1, LO_OPEN},
-    {"model.e_w_rad_s", 0.0, 10.0, LO_OPEN},
-    {"model.substeps", 1.0, (double)TVM_SUBSTEPS_MAX, INTEGER},
-    {"ekf.qu_V2_s", 0.0, 1e3, 0u},
-    {"ekf.qT_Nm2_s", 0.0, 1e3, 0u},
-    {"ekf.r_current_A2", 0.0, 1e3, LO_OPEN},
-    {"ekf.r_velocity_rad2_s2", 0.0, 1e6, LO_OPEN},
-    {"ekf.r_angle_rad2", 0.0, 1.0, LO_OPEN},
-    {"calib.current_offset_counts", 0.0, 65535.0, 0u},
-    {"calib.current_A_per_count", -1.0, 1.0, NONZERO},
-    {"calib.tps1_counts_at_zero", -1e6, 1e6, 0u},
-    {"calib.tps1_rad_per_count", 0.0, 1.0, LO_OPEN},
-    {"calib.tps2_counts_at_zero", -1e6, 1e6, 0u},
-    {"calib.tps2_rad_per_count", -1.0, 0.0, HI_OPEN},
-    {"calib.supply_V_per_count", 0.0, 1.0, LO_OPEN},
-    {"limits.current_min_counts", 0.0, 65535.0, INTEGER},
-    {"limits.current_max_counts", 0.0, 65535.0, INTEGER},
-    {"limits.tps_min_counts", 0.0, 65535.0, INTEGER},
-    {"limits.tps_max_counts", 0.0, 65535.0, INTEGER},
-    {"limits.tps_disagree_max_rad", 0.0, 3.2, LO_OPEN},
-    {"limits.supply_min_V", 0.0, 1e3, LO_OPEN},
-    {"limits.supply_max_V", 0.0, 1e3, LO_OPEN},
-    {"limits.debounce_trip", 1.0, 65535.0, INTEGER},
-    {"limits.max_gap_periods", 1.0, (double)APP_MAX_GAP_PERIODS, INTEGER},
-};
+/* Keys, units, ranges and documentation: the project's one parameter table
+ * (firmware/params/tv_param_table.h), in the order of the K_ ids above. */
+typedef char params_table_matches[(K_COUNT == (int)TVP_COUNT) ? 1 : -1];
 
 static void msg(char *err, size_t cap, const char *fmt, ...)
 {
@@ -94,7 +44,7 @@ static void msg(char *err, size_t cap, const char *fmt, ...)
 
 const char *params_key_name(int k)
 {
-    return k >= 0 && k < K_COUNT ? s_keys[k].name : NULL;
+    return k >= 0 && k < K_COUNT ? tvp_desc(k)->key : NULL;
 }
 
 int params_key_index(const char *name)
@@ -104,7 +54,7 @@ int params_key_index(const char *name)
         return -1;
     }
     for (k = 0; k < K_COUNT; ++k) {
-        if (strcmp(name, s_keys[k].name) == 0) {
+        if (strcmp(name, tvp_desc(k)->key) == 0) {
             return k;
         }
     }
@@ -129,28 +79,24 @@ int params_is_set(const params_t *p, const char *key)
 /* The range of key k as text, e.g. "(0, 1000]". */
 static void range_text(int k, char *out, size_t cap)
 {
-    const params_key_t *d = &s_keys[k];
-    (void)snprintf(out, cap, "%s%.9g, %.9g%s%s%s", (d->flags & LO_OPEN) != 0u ? "(" : "[", d->lo, d->hi,
-                   (d->flags & HI_OPEN) != 0u ? ")" : "]", (d->flags & INTEGER) != 0u ? ", an integer" : "",
-                   (d->flags & NONZERO) != 0u ? ", not 0" : "");
+    tvp_range_text(k, out, cap);
 }
 
 /* Check v against key k. 0 ok, else a status and a message "<where>: key = text ...". */
 static int check_value(int k, double v, const char *text, const char *where, char *err, size_t cap)
 {
-    const params_key_t *d = &s_keys[k];
+    const int rc = tvp_check(k, v);
     char head[PARAMS_MSG_MAX];
-    (void)snprintf(head, sizeof head, "%s: %s = %s", where, d->name, text);
-    if (!(v == v) || v - v != 0.0) {
+    (void)snprintf(head, sizeof head, "%s: %s = %s", where, tvp_desc(k)->key, text);
+    if (rc == -1) {
         msg(err, cap, "%s is not finite", head);
         return TV_ERR_NONFINITE;
     }
-    if ((d->flags & INTEGER) != 0u && v != floor(v)) { /* floor: no conversion of huge values */
+    if (rc == -3) {
         msg(err, cap, "%s is not an integer", head);
         return TV_ERR_FORMAT;
     }
-    if (((d->flags & LO_OPEN) != 0u ? !(v > d->lo) : !(v >= d->lo)) ||
-        ((d->flags & HI_OPEN) != 0u ? !(v < d->hi) : !(v <= d->hi)) || ((d->flags & NONZERO) != 0u && v == 0.0)) {
+    if (rc != 0) {
         char rng[96];
         range_text(k, rng, sizeof rng);
         msg(err, cap, "%s is out of range, allowed %s", head, rng);
@@ -214,19 +160,19 @@ static int parse_line(params_t *p, unsigned long line_no, char *s, char *err, si
         return TV_ERR_FORMAT;
     }
     if (*val == '\0') {
-        msg(err, cap, "%s:%lu: key '%s' has no value", p->file, line_no, s_keys[k].name);
+        msg(err, cap, "%s:%lu: key '%s' has no value", p->file, line_no, tvp_desc(k)->key);
         return TV_ERR_FORMAT;
     }
     if (p->line[k] != 0u) {
         char first[32];
         (void)snprintf(first, sizeof first, "%lu", (unsigned long)p->line[k]);
-        msg(err, cap, "%s:%lu: duplicate key '%s' (first set on line %s)", p->file, line_no, s_keys[k].name, first);
+        msg(err, cap, "%s:%lu: duplicate key '%s' (first set on line %s)", p->file, line_no, tvp_desc(k)->key, first);
         return TV_ERR_FORMAT;
     }
     errno = 0;
     v = strtod(val, &end);
     if (end == val || *end != '\0') {
-        msg(err, cap, "%s:%lu: %s = %.60s is not a number", p->file, line_no, s_keys[k].name, val);
+        msg(err, cap, "%s:%lu: %s = %.60s is not a number", p->file, line_no, tvp_desc(k)->key, val);
         return TV_ERR_FORMAT;
     }
     if (errno == ERANGE && (v - v != 0.0)) {
@@ -359,11 +305,11 @@ int params_set(params_t *p, const char *key, double value, char *err, size_t cap
 static void origin(const params_t *p, int k, char *out, size_t cap)
 {
     if (p->line[k] == 0xFFFFFFFFu) {
-        (void)snprintf(out, cap, "%s (command line)", s_keys[k].name);
+        (void)snprintf(out, cap, "%s (command line)", tvp_desc(k)->key);
     } else if (p->line[k] != 0u) {
-        (void)snprintf(out, cap, "%s (%s:%lu)", s_keys[k].name, p->file, (unsigned long)p->line[k]);
+        (void)snprintf(out, cap, "%s (%s:%lu)", tvp_desc(k)->key, p->file, (unsigned long)p->line[k]);
     } else {
-        (void)snprintf(out, cap, "%s (default)", s_keys[k].name);
+        (void)snprintf(out, cap, "%s (default)", tvp_desc(k)->key);
     }
 }
 
@@ -571,7 +517,18 @@ int params_write(FILE *f, const app_config_t *cfg, const params_t *p)
         }
         range_text(k, rng, sizeof rng);
         shortest_g(num, sizeof num, v);
-        fprintf(f, "%s = %s    # %s\n", s_keys[k].name, num, rng);
+        fprintf(f, "%s = %s    # [%s] %s; %s\n", tvp_desc(k)->key, num, tvp_desc(k)->unit, rng, tvp_desc(k)->doc);
     }
     return ferror(f) ? TV_ERR_IO : TV_OK;
+}
+
+void params_calib_to_header(const app_calib_t *c, rawlog_header_t *h)
+{
+    h->current_offset_counts = (double)c->current_offset_counts;
+    h->current_A_per_count = (double)c->current_A_per_count;
+    h->tps1_counts_at_zero = (double)c->tps1_counts_at_zero;
+    h->tps1_rad_per_count = (double)c->tps1_rad_per_count;
+    h->tps2_counts_at_zero = (double)c->tps2_counts_at_zero;
+    h->tps2_rad_per_count = (double)c->tps2_rad_per_count;
+    h->supply_V_per_count = (double)c->supply_V_per_count;
 }

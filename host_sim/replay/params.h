@@ -29,6 +29,7 @@
 #include <stdio.h>
 
 #include "app.h"
+#include "rawlog.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -97,6 +98,13 @@ const char *params_key_name(int k);
 
 /** Index of a key, -1 if unknown. */
 int params_key_index(const char *name);
+
+/**
+ * Write an application calibration into a raw-log header (the seven calibration fields; the
+ * other fields are left as they are): the one mapping host_sim --raw-log, rawlog_gen and the
+ * tests use, the inverse of what replay reads back.
+ */
+void params_calib_to_header(const app_calib_t *c, rawlog_header_t *h);
 
 #ifdef __cplusplus
 }

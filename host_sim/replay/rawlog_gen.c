@@ -17,6 +17,7 @@
 #include <string.h>
 
 #include "app.h"
+#include "params.h"
 #include "plant.h"
 #include "rawlog_write.h"
 #include "tv_status.h"
@@ -139,13 +140,7 @@ int main(int argc, char **argv)
     h.flags = truth ? RAWLOG_FLAG_TRUTH : 0u;
     h.records_per_block = (uint16_t)block_records;
     h.adc_bits = (uint8_t)pc.adc_bits;
-    h.current_offset_counts = (double)cal.current_offset_counts;
-    h.current_A_per_count = (double)cal.current_A_per_count;
-    h.tps1_counts_at_zero = (double)cal.tps1_counts_at_zero;
-    h.tps1_rad_per_count = (double)cal.tps1_rad_per_count;
-    h.tps2_counts_at_zero = (double)cal.tps2_counts_at_zero;
-    h.tps2_rad_per_count = (double)cal.tps2_rad_per_count;
-    h.supply_V_per_count = (double)cal.supply_V_per_count;
+    params_calib_to_header(&cal, &h);
     f = fopen(path, format == RLR_FMT_BIN ? "wb" : "w");
     if (f == NULL) {
         fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, path, strerror(errno));

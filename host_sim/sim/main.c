@@ -388,13 +388,7 @@ int main(int argc, char **argv)
             rawlog_header_default(&h);
             h.flags = RAWLOG_FLAG_TRUTH;
             h.adc_bits = (uint8_t)pc.adc_bits;
-            h.current_offset_counts = (double)c->current_offset_counts;
-            h.current_A_per_count = (double)c->current_A_per_count;
-            h.tps1_counts_at_zero = (double)c->tps1_counts_at_zero;
-            h.tps1_rad_per_count = (double)c->tps1_rad_per_count;
-            h.tps2_counts_at_zero = (double)c->tps2_counts_at_zero;
-            h.tps2_rad_per_count = (double)c->tps2_rad_per_count;
-            h.supply_V_per_count = (double)c->supply_V_per_count;
+            params_calib_to_header(c, &h);
             raw = fopen(raw_path, raw_format == RLR_FMT_BIN ? "wb" : "w");
             if (raw == NULL) {
                 fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, raw_path, strerror(errno));

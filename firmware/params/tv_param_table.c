@@ -1,0 +1,109 @@
+/**
+ * @file tv_param_table.c
+ * @brief The parameter table (see tv_param_table.h).
+ */
+#include "tv_param_table.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "app.h"
+#include "tv_model.h"
+
+static const tvp_desc_t s_table[TVP_COUNT] = {
+    {"model.R_ohm", "ohm", 0.0, 1000.0, TVP_LO_OPEN, "armature resistance"},
+    {"model.L_H", "H", 0.0, 10.0, TVP_LO_OPEN, "armature inductance"},
+    {"model.Ke_V_s_rad", "V s/rad", 0.0, 10.0, 0u, "back-EMF constant (motor side)"},
+    {"model.Kt_Nm_A", "N m/A", 0.0, 10.0, 0u, "torque constant (motor side)"},
+    {"model.J_kg_m2", "kg m^2", 0.0, 10.0, TVP_LO_OPEN, "inertia at the plate"},
+    {"model.n_gear", "-", 0.0, 1000.0, TVP_LO_OPEN, "gear ratio motor : plate"},
+    {"model.Mc_Nm", "N m", 0.0, 100.0, 0u, "Coulomb friction (<= Ms)"},
+    {"model.M0_Nm", "N m", 0.0, 100.0, 0u, "limp-home spring preload"},
+    {"model.c_Nm_rad", "N m/rad", 0.0, 1000.0, 0u, "spring rate"},
+    {"model.Kv_Nm_s_rad", "N m s/rad", 0.0, 100.0, 0u, "viscous friction"},
+    {"model.Ms_Nm", "N m", 0.0, 100.0, 0u, "static friction (>= Mc)"},
+    {"model.ws_rad_s", "rad/s", 0.0, 1000.0, TVP_LO_OPEN, "Stribeck velocity"},
+    {"model.phi_closed_rad", "rad", -1.0, 0.0, TVP_HI_OPEN, "closed hard stop (below limp-home)"},
+    {"model.phi_open_rad", "rad", 0.0, 2.5, TVP_LO_OPEN, "open hard stop"},
+    {"model.k_stop_Nm_rad", "N m/rad", 0.0, 10000000.0, 0u, "stop contact stiffness"},
+    {"model.d_stop_Nm_s_rad", "N m s/rad", 0.0, 100000.0, 0u, "stop contact damping"},
+    {"model.e_phi_rad", "rad", 0.0, 0.1, TVP_LO_OPEN, "smoothing width of the preload sign"},
+    {"model.e_w_rad_s", "rad/s", 0.0, 10.0, TVP_LO_OPEN, "smoothing width of |w| in the Stribeck term"},
+    {"model.substeps", "-", 1.0, (double)TVM_SUBSTEPS_MAX, TVP_INTEGER, "sub-steps of the prediction map per period"},
+    {"ekf.qu_V2_s", "V^2 s", 0.0, 1000.0, 0u, "armature voltage noise density (Q)"},
+    {"ekf.qT_Nm2_s", "N^2 m^2 s", 0.0, 1000.0, 0u, "plate torque noise density (Q)"},
+    {"ekf.r_current_A2", "A^2", 0.0, 1000.0, TVP_LO_OPEN, "current measurement VARIANCE"},
+    {"ekf.r_velocity_rad2_s2", "(rad/s)^2", 0.0, 1000000.0, TVP_LO_OPEN, "differentiated-velocity measurement VARIANCE"},
+    {"ekf.r_angle_rad2", "rad^2", 0.0, 1.0, TVP_LO_OPEN, "angle measurement VARIANCE"},
+    {"calib.current_offset_counts", "counts", 0.0, 65535.0, 0u, "current channel at 0 A"},
+    {"calib.current_A_per_count", "A/count", -1.0, 1.0, TVP_NONZERO, "current sense gain"},
+    {"calib.tps1_counts_at_zero", "counts", -1000000.0, 1000000.0, 0u, "track 1 at limp-home"},
+    {"calib.tps1_rad_per_count", "rad/count", 0.0, 1.0, TVP_LO_OPEN, "track 1 gain (rising)"},
+    {"calib.tps2_counts_at_zero", "counts", -1000000.0, 1000000.0, 0u, "track 2 at limp-home"},
+    {"calib.tps2_rad_per_count", "rad/count", -1.0, 0.0, TVP_HI_OPEN, "track 2 gain (falling)"},
+    {"calib.supply_V_per_count", "V/count", 0.0, 1.0, TVP_LO_OPEN, "supply divider and ADC"},
+    {"limits.current_min_counts", "counts", 0.0, 65535.0, TVP_INTEGER, "lowest plausible current count (< max)"},
+    {"limits.current_max_counts", "counts", 0.0, 65535.0, TVP_INTEGER, "highest plausible current count"},
+    {"limits.tps_min_counts", "counts", 0.0, 65535.0, TVP_INTEGER, "lowest plausible track count (< max)"},
+    {"limits.tps_max_counts", "counts", 0.0, 65535.0, TVP_INTEGER, "highest plausible track count"},
+    {"limits.tps_disagree_max_rad", "rad", 0.0, 3.2, TVP_LO_OPEN, "largest plausible track disagreement"},
+    {"limits.supply_min_V", "V", 0.0, 1000.0, TVP_LO_OPEN, "lowest plausible supply (< max)"},
+    {"limits.supply_max_V", "V", 0.0, 1000.0, TVP_LO_OPEN, "highest plausible supply"},
+    {"limits.debounce_trip", "samples", 1.0, 65535.0, TVP_INTEGER, "consecutive failures that latch a fault"},
+    {"limits.max_gap_periods", "periods", 1.0, (double)APP_MAX_GAP_PERIODS, TVP_INTEGER, "largest gap one step predicts across"},
+};
+
+const tvp_desc_t *tvp_desc(int id)
+{
+    return id >= 0 && id < (int)TVP_COUNT ? &s_table[id] : NULL;
+}
+
+int tvp_find(const char *key)
+{
+    int k;
+    if (key == NULL) {
+        return -1;
+    }
+    for (k = 0; k < (int)TVP_COUNT; ++k) {
+        if (strcmp(key, s_table[k].key) == 0) {
+            return k;
+        }
+    }
+    return -1;
+}
+
+int tvp_check(int id, double v)
+{
+    const tvp_desc_t *d = tvp_desc(id);
+    if (d == NULL) {
+        return -4;
+    }
+    if (!(v == v) || v - v != 0.0) {
+        return -1;
+    }
+    if ((d->flags & TVP_INTEGER) != 0u && v != floor(v)) { /* floor: no conversion of huge values */
+        return -3;
+    }
+    if (((d->flags & TVP_LO_OPEN) != 0u ? !(v > d->lo) : !(v >= d->lo)) ||
+        ((d->flags & TVP_HI_OPEN) != 0u ? !(v < d->hi) : !(v <= d->hi)) ||
+        ((d->flags & TVP_NONZERO) != 0u && v == 0.0)) {
+        return -2;
+    }
+    return 0;
+}
+
+void tvp_range_text(int id, char *out, size_t cap)
+{
+    const tvp_desc_t *d = tvp_desc(id);
+    if (out == NULL || cap == 0u) {
+        return;
+    }
+    if (d == NULL) {
+        out[0] = '\0';
+        return;
+    }
+    (void)snprintf(out, cap, "%s%.9g, %.9g%s%s%s", (d->flags & TVP_LO_OPEN) != 0u ? "(" : "[", d->lo, d->hi,
+                   (d->flags & TVP_HI_OPEN) != 0u ? ")" : "]", (d->flags & TVP_INTEGER) != 0u ? ", an integer" : "",
+                   (d->flags & TVP_NONZERO) != 0u ? ", not 0" : "");
+}
