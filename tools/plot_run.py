@@ -1,7 +1,13 @@
 #!/usr/bin/python3
-"""Plot a host_sim run: the paper's Figures 6-8 redone from a run's CSV, with the truth added.
+"""Plot a run: the paper's Figures 6-8 redone from a host_sim run CSV or a replay output CSV.
 
 Usage: plot_run.py RUN.csv [--out DIR] [--zoom T0 T1]
+
+Both executables write the same column names for the same quantities (i_est_A, w_sigma_rad_s,
+innov_phi_rad, i_true_A, ...); time is t_s in host_sim and t_us in replay (the raw log's
+integer timestamps), and both are read. Comment lines (#) are skipped, an empty field (a channel
+not used) is a gap. What a file does not carry is left out of the plots: a replayed bench log
+has no truth (then no error figure), replay writes measurements only with --wide.
 
 Writes, into DIR (default: the CSV's directory), for RUN = the CSV's name without .csv:
   RUN_fig6_states.png     measured vs estimated current, velocity, angle over the whole run
@@ -28,12 +34,9 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 REQUIRED = [
-    "t_s", "i_true_A", "w_true_rad_s", "phi_true_rad",
-    "i_meas_A", "w_meas_rad_s", "phi_meas_rad",
     "i_est_A", "w_est_rad_s", "phi_est_rad",
     "i_sigma_A", "w_sigma_rad_s", "phi_sigma_rad",
-    "innov_i_A", "innov_phi_rad", "innov_i_sigma_A", "innov_phi_sigma_rad",
-    "w_paper_rad_s", "faults",
+    "faults",
 ]
 
 MODE_NAMES = {0: "off", 1: "sine", 2: "steps", 3: "chirp", 4: "position"}
@@ -54,16 +57,18 @@ def load(path):
                 raise CsvError(f"{path}: empty file (no header line)") from None
             header = [h.strip() for h in header]
             missing = [c for c in REQUIRED if c not in header]
+            if "t_s" not in header and "t_us" not in header:
+                missing.insert(0, "t_s or t_us")
             if missing:
-                raise CsvError(f"{path}: not a host_sim run log: missing column(s) {', '.join(missing)}")
+                raise CsvError(f"{path}: not a host_sim or replay output: missing column(s) {', '.join(missing)}")
             rows = []
             for lineno, row in enumerate(reader, start=2):
-                if not row:
+                if not row or row[0].lstrip().startswith("#"):
                     continue
                 if len(row) != len(header):
                     raise CsvError(f"{path}:{lineno}: {len(row)} fields, the header has {len(header)}")
                 try:
-                    rows.append([float(v) for v in row])
+                    rows.append([float(v) if v.strip() != "" else np.nan for v in row])
                 except ValueError as e:
                     raise CsvError(f"{path}:{lineno}: not a number ({e})") from None
     except OSError as e:
@@ -71,7 +76,10 @@ def load(path):
     if len(rows) < 2:
         raise CsvError(f"{path}: needs at least 2 data lines, has {len(rows)}")
     data = np.array(rows, dtype=float)
-    return {name: data[:, k] for k, name in enumerate(header)}
+    d = {name: data[:, k] for k, name in enumerate(header)}
+    if "t_s" not in d:
+        d["t_s"] = d["t_us"] * 1e-6
+    return d
 
 
 def band(ax, t, centre, sigma, color, label):
@@ -87,30 +95,37 @@ def title_of(d, stem):
     return f"{stem}{mode}, faults 0x{faults:02x}"
 
 
+def legend_outside(ax):
+    """Legend right of the axes, where it covers no data."""
+    ax.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, borderaxespad=0.0)
+
+
 def states_figure(d, stem, sel, path, subtitle):
     t = d["t_s"][sel]
-    fig, axes = plt.subplots(3, 1, figsize=(12, 10), sharex=True)
+    fig, axes = plt.subplots(3, 1, figsize=(14, 10), sharex=True)
     panels = [
         ("i", "A", "motor current [A]"),
         ("w", "rad_s", "angular velocity [rad/s]"),
         ("phi", "rad", "plate angle [rad]"),
     ]
     for ax, (s, unit, ylabel) in zip(axes, panels):
-        meas = d[f"{s}_meas_{unit}"][sel]
         est = d[f"{s}_est_{unit}"][sel]
         sig = d[f"{s}_sigma_{unit}"][sel]
-        true = d[f"{s}_true_{unit}"][sel]
-        mlabel = "measured (differentiated angle)" if s == "w" else "measured"
-        ax.plot(t, meas, color="tab:blue", lw=0.8, label=mlabel)
-        ax.plot(t, true, color="black", lw=1.0, label="true (plant)")
+        if f"{s}_meas_{unit}" in d:
+            mlabel = "measured (differentiated angle)" if s == "w" else "measured"
+            ax.plot(t, d[f"{s}_meas_{unit}"][sel], color="tab:blue", lw=0.8, label=mlabel)
+        if f"{s}_true_{unit}" in d:
+            ax.plot(t, d[f"{s}_true_{unit}"][sel], color="black", lw=1.0, label="true (plant)")
         band(ax, t, est, sig, "tab:red", "app filter +-3 sigma")
         ax.plot(t, est, color="tab:red", lw=1.2, ls="--", label="app filter estimate")
-        if s == "w":
+        if s == "w" and "w_paper_rad_s" in d:
             ax.plot(t, d["w_paper_rad_s"][sel], color="tab:green", lw=1.0, ls=":",
-                    label="paper set-up filter (3 meas, paper Q/R)")
+                    label="paper set-up filter\n(3 meas, paper Q/R)")
+        if s == "phi" and "target_rad" in d and np.any(np.isfinite(d["target_rad"][sel])):
+            ax.plot(t, d["target_rad"][sel], color="tab:purple", lw=1.0, ls="-.", label="target")
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
-        ax.legend(loc="upper right", fontsize=8, ncol=2)
+        legend_outside(ax)
     axes[-1].set_xlabel("time [s]")
     fig.suptitle(f"{title_of(d, stem)}: measured vs estimated states{subtitle}")
     fig.tight_layout()
@@ -120,25 +135,30 @@ def states_figure(d, stem, sel, path, subtitle):
 
 def residual_figure(d, stem, path):
     t = d["t_s"]
-    fig, axes = plt.subplots(2, 1, figsize=(12, 7), sharex=True)
+    fig, axes = plt.subplots(2, 1, figsize=(14, 7), sharex=True)
     for ax, (col, scol, ylabel, color) in zip(axes, [
         ("innov_i_A", "innov_i_sigma_A", "current residual [A]", "tab:blue"),
         ("innov_phi_rad", "innov_phi_sigma_rad", "angle residual [rad]", "tab:cyan"),
     ]):
-        s = d[scol]
-        used = s > 0
+        if col not in d:
+            ax.set_visible(False)
+            continue
+        # replay writes the innovation sigmas with --wide only: no band without them
+        s = d[scol] if scol in d else np.full_like(t, np.nan)
+        used = np.isfinite(d[col]) & (np.isnan(s) | (s > 0))
         ax.fill_between(t, np.where(used, -3 * s, np.nan), np.where(used, 3 * s, np.nan),
                         color="gray", alpha=0.25, lw=0, label="+-3 sqrt(S)")
         ax.plot(t, np.where(used, d[col], np.nan), color=color, lw=0.8, label="residual z - x_pred")
         # scale to the settled part (the first corrections carry the large initial P0)
         settled = used & (t >= t[0] + min(0.2, 0.1 * (t[-1] - t[0])))
         if np.count_nonzero(settled) > 10:
-            lim = 1.3 * max(np.percentile(np.abs(d[col][settled]), 99.9), 3.0 * np.percentile(s[settled], 99))
+            sig99 = np.nanpercentile(s[settled], 99) if np.any(np.isfinite(s[settled])) else 0.0
+            lim = 1.3 * max(np.percentile(np.abs(d[col][settled]), 99.9), 3.0 * sig99)
             if lim > 0:
                 ax.set_ylim(-lim, lim)
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
-        ax.legend(loc="upper right", fontsize=8)
+        legend_outside(ax)
     axes[-1].set_xlabel("time [s]")
     fig.suptitle(f"{title_of(d, stem)}: residuals of the app filter (paper Fig. 8)")
     fig.tight_layout()
@@ -147,39 +167,49 @@ def residual_figure(d, stem, path):
 
 
 def error_figure(d, stem, path):
+    """Errors against the truth with the filter's +-3 sigma band. Each panel is scaled to the
+    filter's band and error, so the band is visible; the measurement's (or the differentiated
+    angle's) error is drawn behind it and, where it leaves that scale, clipped: the legend says so."""
     t = d["t_s"]
-    fig, axes = plt.subplots(3, 1, figsize=(12, 10), sharex=True)
+    fig, axes = plt.subplots(3, 1, figsize=(14, 10), sharex=True)
+    settle = t >= t[0] + min(0.2, 0.1 * (t[-1] - t[0]))
     for ax, (s, unit, ylabel) in zip(axes, [
         ("i", "A", "current error [A]"),
         ("w", "rad_s", "velocity error [rad/s]"),
         ("phi", "rad", "angle error [rad]"),
     ]):
         true = d[f"{s}_true_{unit}"]
-        err_meas = d[f"{s}_meas_{unit}"] - true
         err = d[f"{s}_est_{unit}"] - true
         sig = d[f"{s}_sigma_{unit}"]
-        ax.plot(t, err_meas, color="tab:blue", lw=0.6, alpha=0.6,
-                label="measured - true" if s != "w" else "differentiated angle - true")
+        lim = 1.5 * max(np.nanpercentile(np.abs(err[settle]), 99.5), 3.0 * np.nanpercentile(sig[settle], 99), 1e-9)
+        if f"{s}_meas_{unit}" in d:
+            err_meas = d[f"{s}_meas_{unit}"] - true
+            clipped = np.nanmax(np.abs(err_meas[settle])) > lim
+            what = "differentiated angle - true" if s == "w" else "measured - true"
+            ax.plot(t, np.clip(err_meas, -lim, lim), color="tab:blue", lw=0.6, alpha=0.5,
+                    label=what + (f"\n(clipped at +-{lim:.3g})" if clipped else ""))
         band(ax, t, np.zeros_like(t), sig, "tab:red", "+-3 sigma (app filter)")
-        ax.plot(t, err, color="tab:red", lw=1.0, label="app filter - true")
-        if s == "w":
-            ax.plot(t, d["w_paper_rad_s"] - true, color="tab:green", lw=0.8, ls=":",
-                    label="paper set-up filter - true")
-            lim = 4.0 * max(np.nanpercentile(np.abs(err_meas), 99), 1e-3)
-            ax.set_ylim(-lim, lim)
+        beyond = np.nanmax(np.abs(err[settle])) > lim
+        ax.plot(t, np.clip(err, -lim, lim), color="tab:red", lw=1.0,
+                label="app filter - true" + (f"\n(peaks clipped at +-{lim:.3g})" if beyond else ""))
+        if s == "w" and "w_paper_rad_s" in d:
+            ax.plot(t, np.clip(d["w_paper_rad_s"] - true, -lim, lim), color="tab:green", lw=0.8, ls=":",
+                    label="paper set-up filter - true\n(clipped to the same scale)")
+        ax.set_ylim(-lim, lim)
         ax.set_ylabel(ylabel)
         ax.grid(True, alpha=0.3)
-        ax.legend(loc="upper right", fontsize=8, ncol=2)
+        legend_outside(ax)
     axes[-1].set_xlabel("time [s]")
-    fig.suptitle(f"{title_of(d, stem)}: estimation errors against the plant truth")
+    fig.suptitle(f"{title_of(d, stem)}: estimation errors against the plant truth, scaled to the filter's band "
+                 f"(the first {min(0.2, 0.1 * (t[-1] - t[0])):.2g} s of convergence may leave the scale)")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
 
 
 def main(argv):
-    ap = argparse.ArgumentParser(description="Plot a host_sim run CSV (paper Figures 6-8, with the truth).")
-    ap.add_argument("csv", metavar="RUN.csv", help="run log written by host_sim")
+    ap = argparse.ArgumentParser(description="Plot a host_sim run CSV or a replay output (paper Figures 6-8).")
+    ap.add_argument("csv", metavar="RUN.csv", help="run log written by host_sim, or replay's output")
     ap.add_argument("--out", metavar="DIR", help="output directory (default: the CSV's directory)")
     ap.add_argument("--zoom", nargs=2, type=float, metavar=("T0", "T1"),
                     help="window of the zoomed figure [s] (default: 0.2 s from the middle of the run)")
@@ -210,11 +240,16 @@ def main(argv):
         print(f"plot_run.py: error: --zoom {t0} {t1} selects fewer than 2 samples "
               f"(run spans {t[0]:g} .. {t[-1]:g} s)", file=sys.stderr)
         return 2
-    paths = [os.path.join(out_dir, f"{stem}_{n}.png") for n in ("fig6_states", "fig7_zoom", "fig8_residuals", "errors")]
+    has_truth = all(c in d for c in ("i_true_A", "w_true_rad_s", "phi_true_rad"))
+    names = ["fig6_states", "fig7_zoom", "fig8_residuals"] + (["errors"] if has_truth else [])
+    paths = [os.path.join(out_dir, f"{stem}_{n}.png") for n in names]
     states_figure(d, stem, np.ones_like(t, dtype=bool), paths[0], "")
     states_figure(d, stem, sel, paths[1], f" ({t0:.3f} .. {t1:.3f} s)")
     residual_figure(d, stem, paths[2])
-    error_figure(d, stem, paths[3])
+    if has_truth:
+        error_figure(d, stem, paths[3])
+    else:
+        print("no truth columns (a bench log): no error figure")
     for p in paths:
         print(f"wrote {p}")
     return 0

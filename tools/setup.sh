@@ -22,11 +22,25 @@ for p in "${PKGS[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if ((${#missing[@]})); then
-  echo "setup: installing ${missing[*]}" >&2
+  echo "setup: ${#missing[@]} of ${#PKGS[@]} packages missing: ${missing[*]}" >&2
   SUDO=""
   if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+  echo "setup: apt-get update ..." >&2
   $SUDO apt-get update -qq
-  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+  # One progress line per package unpacked and set up (apt's own lines, filtered), so a first
+  # install of several hundred MB does not look like a hang.
+  echo "setup: installing (this can take several minutes the first time) ..." >&2
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y --no-install-recommends "${missing[@]}" 2>&1 |
+    grep --line-buffered -E '^(Get:|Setting up|Need to get|E:)' | sed -u 's/^/setup:   /' >&2 || true
+  still=()
+  for p in "${missing[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || still+=("$p")
+  done
+  if ((${#still[@]})); then
+    echo "setup: could not install: ${still[*]}" >&2
+    exit 1
+  fi
+  echo "setup: done, all ${#PKGS[@]} packages present" >&2
 else
   echo "setup: all ${#PKGS[@]} packages present" >&2
 fi

@@ -9,7 +9,7 @@
  *   x[2] = phi  plate angle, 0 at limp-home, + opening  [rad]
  * Input: u = armature voltage (H-bridge duty x supply)  [V]
  *
- * Continuous model (MODEL.md, paper eqs. 1-3 with the gear ratio in the torque):
+ * Continuous model (firmware/estimator/MODEL.md, paper eqs. 1-3 with the gear ratio in the torque):
  *   L di/dt   = u - R i - Ke n w
  *   J dw/dt   = n Kt i - M0 sp(phi) - c phi - Mf(w) + Mstop(phi, w)
  *   dphi/dt   = w

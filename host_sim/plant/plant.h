@@ -13,7 +13,7 @@
  * STATES (plate side of the gearbox, SI): armature current i [A], plate velocity w [rad/s],
  * plate angle phi [rad] (0 at limp-home, positive = opening).
  *
- * CONTINUOUS DYNAMICS (docs/MODEL.md, paper Table 1 defaults):
+ * CONTINUOUS DYNAMICS (firmware/estimator/MODEL.md, paper Table 1 defaults):
  *   L di/dt = u - R i - Ke n w
  *   J dw/dt = n Kt i - Mspring(phi) - Kv w - Mcoul(w) + Mstop(phi, w)
  *   dphi/dt = w

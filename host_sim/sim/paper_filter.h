@@ -3,7 +3,7 @@
  * @brief FOR COMPARISON ONLY, never in firmware: the paper's extended Kalman filter transcribed
  *        AS PRINTED (Horvath, "State Space Estimation for an Electromechanical Actuator Valve
  *        using Extended Kalman Filter"), errors included, so that the project can measure what
- *        the published filter actually delivers. docs/MODEL.md lists the errata.
+ *        the published filter actually delivers. firmware/estimator/MODEL.md lists the errata.
  *
  * What is transcribed (double precision, states x = (i [A], w [rad/s], phi [rad])):
  *   - model of eq. 12: forward Euler over Ts with sign(x) ~ (2/pi) atan(1e3 x) (section 3.3);
