@@ -78,13 +78,14 @@ static void usage(FILE *f)
             "Runs the firmware's 1 kHz application (double build) against the high-fidelity plant.\n"
             "With no arguments: the paper's experiment (paper_sine, 2 s, seed 1) into out/.\n"
             "\n"
-            "  --scenario NAME   one of:",
+            "  --scenario NAME   one of (default paper_sine):\n",
             s_prog);
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
-        fprintf(f, " %s", sim_scenario_name((sim_scenario_t)k));
+        fprintf(f, "                      %-14s %s\n", sim_scenario_name((sim_scenario_t)k),
+                sim_scenario_description((sim_scenario_t)k));
     }
     fprintf(f,
-            " (default paper_sine)\n"
+            ""
             "  --duration S      simulated time [s], 0 < S <= %g (default: the scenario's)\n"
             "  --seed N          plant noise seed, unsigned integer (default 1)\n"
             "  --mc N            Monte Carlo over N seeds (--seed, --seed + 1, ...), 1 <= N <= %u;\n"

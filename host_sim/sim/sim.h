@@ -169,6 +169,7 @@ typedef struct {
     double nis_lo, nis_hi;      /**< 95 % band: chi2_q(p, D) / N, D = total dof */
     double nis_dof_avg;         /**< D / N (2 or 3 for a fixed set-up) */
     uint32_t nis_n;             /**< N of that average */
+    double nis_ch_avg[EKF_NCH]; /**< average NIS of each channel over its corrections (1 dof; NaN: unused) */
     uint32_t faults;            /**< latched APP_FAULT_* mask at the end */
     uint32_t fault_ticks;       /**< ticks with any fault latched */
     double first_fault_t_s;     /**< time of the first fault [s], NaN if none */
@@ -210,6 +211,9 @@ void sim_options_default(sim_options_t *opt);
 
 /** Scenario name ("paper_sine", "closed_steps", "closed_ramp", "chirp", "stuck_release"); "?" if invalid. */
 const char *sim_scenario_name(sim_scenario_t s);
+
+/** One line saying what scenario s does (for --help and the README). */
+const char *sim_scenario_description(sim_scenario_t s);
 
 /**
  * Scenario by name.

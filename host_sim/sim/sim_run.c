@@ -96,6 +96,8 @@ typedef struct {
     double nees_sum;
     double nis_sum;
     double nis_dof_sum;
+    double nis_ch_sum[EKF_NCH];
+    uint32_t nis_ch_n[EKF_NCH];
 } sim_side_t;
 
 static int sim_ekf_row_is_used(const ekf_innov_t *in, int ch)
@@ -375,6 +377,12 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
                 side->nis_sum += row.nis;
                 side->nis_dof_sum += (double)out.innov.n_used;
                 ++res->nis_n;
+                for (a = 0; a < EKF_NCH; ++a) {
+                    if (sim_ekf_row_is_used(&out.innov, a)) {
+                        side->nis_ch_sum[a] += (double)out.innov.nis[a];
+                        ++side->nis_ch_n[a];
+                    }
+                }
             }
         }
 
@@ -413,6 +421,13 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->nees_avg = side->nees_sum / n;
         res->nees_lo = sim_chi2_quantile(SIM_BAND_P_LO, 3.0 * n) / n;
         res->nees_hi = sim_chi2_quantile(SIM_BAND_P_HI, 3.0 * n) / n;
+    }
+    {
+        int ch;
+        for (ch = 0; ch < EKF_NCH; ++ch) {
+            res->nis_ch_avg[ch] =
+                side->nis_ch_n[ch] > 0u ? side->nis_ch_sum[ch] / (double)side->nis_ch_n[ch] : SIM_NAN;
+        }
     }
     if (res->nis_n > 0u) {
         const double n = (double)res->nis_n;

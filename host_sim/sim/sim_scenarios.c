@@ -24,6 +24,18 @@ static const char *const s_est_names[SIM_EST_COUNT] = {"app filter", "paper set-
 static const char *const s_est_ids[SIM_EST_COUNT] = {"app", "paper_setup", "paper_printed", "paper_eq12",
                                                      "paper_eq12_exact", "measured"};
 
+static const char *const s_scn_descriptions[SIM_SCN_COUNT] = {
+    "the paper's experiment: open-loop 12 V / 5 Hz sine, 2 s (touches both stops)",
+    "closed loop: position steps 0.2, 0.8, 0.05, 1.2 rad, 0.5 s each, 2.5 s (tracking figures per step)",
+    "closed loop: hold 0.1 rad, ramp to 1.2 rad over 1 s and back, 2.5 s (tracking error)",
+    "open-loop 12 V chirp 1 -> 20 Hz over 2 s",
+    "stick-slip: plate stuck at 0.5 rad, a 4.5 V pulse at 0.5 s, a 5 V/s ramp from 1.2 s, 2.2 s"};
+
+const char *sim_scenario_description(sim_scenario_t s)
+{
+    return (unsigned)s < (unsigned)SIM_SCN_COUNT ? s_scn_descriptions[s] : "?";
+}
+
 const char *sim_scenario_name(sim_scenario_t s)
 {
     return (unsigned)s < (unsigned)SIM_SCN_COUNT ? s_scn_names[s] : "?";
