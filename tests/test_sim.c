@@ -325,6 +325,39 @@ static void test_missed_sample_predicts_the_period_that_ran_with_its_voltage(voi
     TV_CHECK(sum_abs / 12.0 < 1.5);
 }
 
+/* Tracking figures against a hand-computed synthetic step response: target 0 -> 1 rad at 0.1 s;
+ * the angle jumps to 1.1 (10 % overshoot) for 100 samples (0.100 .. 0.199 s), then sits on 1.0
+ * to 1.0 s. By sim_tracking.h's definitions: overshoot 10 %; band max(2 % of 1, 5 mrad) = 0.02,
+ * last sample outside it 0.199 s, settling 0.099 s; steady-state error 0; RMS error over the 1001
+ * samples with a target: sqrt(100 x 0.1^2 / 1001). A ramp afterwards ends the step and adds only
+ * to the RMS. */
+static void test_tracking_figures_of_a_synthetic_step(void)
+{
+    static sim_tracking_t tk;
+    int k;
+    sim_tracking_init(&tk);
+    for (k = 0; k <= 1000; ++k) {
+        const double t = k * 1e-3;
+        const double target = k < 100 ? 0.0 : 1.0;
+        const double angle = k < 100 ? 0.0 : (k < 200 ? 1.1 : 1.0);
+        sim_tracking_add(&tk, t, target, angle);
+    }
+    sim_tracking_finish(&tk);
+    TV_CHECK_EQ_INT(tk.n_steps, 1);
+    TV_CHECK_NEAR(tk.step[0].t_step_s, 0.1, 1e-12);
+    TV_CHECK_NEAR(tk.step[0].overshoot_pct, 10.0, 1e-9);
+    TV_CHECK_NEAR(tk.step[0].settling_s, 0.099, 1e-12);
+    TV_CHECK_NEAR(tk.step[0].settled, 1.0, 0.0);
+    TV_CHECK_NEAR(tk.step[0].ss_error_rad, 0.0, 1e-15);
+    TV_CHECK_NEAR(tk.rms_error_rad, sqrt(100.0 * 0.01 / 1001.0), 1e-12);
+    /* open loop (no target): nothing */
+    sim_tracking_init(&tk);
+    sim_tracking_add(&tk, 0.0, (double)NAN, 0.3);
+    sim_tracking_finish(&tk);
+    TV_CHECK_EQ_INT(tk.n_steps, 0);
+    TV_CHECK_EQ_INT(tk.n, 0);
+}
+
 /* ------------------------------------------------------------------------------------------ */
 /* simulation core                                                                             */
 /* ------------------------------------------------------------------------------------------ */
@@ -511,6 +544,7 @@ int main(void)
     TV_TEST_RUN(test_driver_fault_trips_safe_state_at_once);
     TV_TEST_RUN(test_failed_adc_read_forces_safe_outputs);
     TV_TEST_RUN(test_missed_sample_predicts_the_period_that_ran_with_its_voltage);
+    TV_TEST_RUN(test_tracking_figures_of_a_synthetic_step);
     TV_TEST_RUN(test_short_default_scenario_runs_clean_with_finite_metrics);
     TV_TEST_RUN(test_same_seed_reproduces_identical_metrics);
     TV_TEST_RUN(test_all_scenarios_run);

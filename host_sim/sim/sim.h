@@ -42,6 +42,7 @@
 #include <stdio.h>
 
 #include "app.h"
+#include "sim_tracking.h"
 #include "ekf.h"
 #include "plant.h"
 
@@ -180,6 +181,7 @@ typedef struct {
     uint32_t paper_printed_resets;   /**< divergence-guard resets of SIM_EST_PAPER_PRINTED */
     uint32_t paper_eq12_resets;      /**< divergence-guard resets of SIM_EST_PAPER_EQ12 */
     uint32_t paper_eq12x_resets;     /**< divergence-guard resets of SIM_EST_PAPER_EQ12_EXACT */
+    sim_tracking_t tracking;         /**< closed-loop tracking figures of the plant's angle (sim_tracking.h) */
 } sim_result_t;
 
 /** Monte Carlo results (sim_monte_carlo()). */

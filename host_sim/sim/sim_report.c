@@ -121,6 +121,23 @@ int sim_result_print(FILE *f, const sim_result_t *r)
                                    : "");
     fprintf(f, "  NIS per channel (1 dof each, expected 1): current %.3g, velocity %.3g, angle %.3g\n",
             r->nis_ch_avg[EKF_CH_CURRENT], r->nis_ch_avg[EKF_CH_VELOCITY], r->nis_ch_avg[EKF_CH_ANGLE]);
+    if (r->tracking.n_steps > 0u) {
+        const sim_tracking_t *tk = &r->tracking;
+        uint32_t k;
+        fprintf(f, "closed-loop tracking of the plate angle (plant truth; sim_tracking.h):\n");
+        fprintf(f, "  %-8s %-17s %13s %12s %16s\n", "t [s]", "target [rad]", "overshoot [%]", "settling [s]",
+                "steady err [rad]");
+        for (k = 0; k < tk->n_steps && k < SIM_TRK_MAX_STEPS; ++k) {
+            const sim_trk_step_t *st = &tk->step[k];
+            fprintf(f, "  %-8.3f %6.3f -> %6.3f   %13.2f %11.3f%s %16.3g\n", st->t_step_s, st->from_rad, st->to_rad,
+                    st->overshoot_pct, st->settling_s, st->settled > 0.5 ? " " : "+", st->ss_error_rad);
+        }
+        fprintf(f, "  worst: overshoot %.2f %%, settling %.3f s, steady-state error %.3g rad; RMS tracking error %.3g rad\n"
+                   "  (+: not settled within the segment)\n",
+                tk->worst_overshoot_pct, tk->worst_settling_s, tk->worst_ss_error_rad, tk->rms_error_rad);
+    } else if (r->tracking.n > 0u) {
+        fprintf(f, "closed-loop tracking: RMS tracking error %.3g rad (no step of the target)\n", r->tracking.rms_error_rad);
+    }
     fprintf(f, "events:\n");
     fprintf(f, "  faults latched 0x%02lx (%lu ticks with a fault", (unsigned long)r->faults, (unsigned long)r->fault_ticks);
     if (sim_finite(r->first_fault_t_s)) {
@@ -171,6 +188,17 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     fputs(", \"angle\": ", f);
     sim_jnum(f, r->nis_ch_avg[EKF_CH_ANGLE]);
     fputs("}},\n", f);
+    if (r->tracking.n > 0u) {
+        fprintf(f, "  \"tracking\": {\"steps\": %lu, \"worst_overshoot_pct\": ", (unsigned long)r->tracking.n_steps);
+        sim_jnum(f, r->tracking.worst_overshoot_pct);
+        fputs(", \"worst_settling_s\": ", f);
+        sim_jnum(f, r->tracking.worst_settling_s);
+        fputs(", \"worst_steady_state_error_rad\": ", f);
+        sim_jnum(f, r->tracking.worst_ss_error_rad);
+        fputs(", \"rms_error_rad\": ", f);
+        sim_jnum(f, r->tracking.rms_error_rad);
+        fputs("},\n", f);
+    }
     fprintf(f, "  \"faults\": %lu,\n  \"fault_ticks\": %lu,\n  \"first_fault_t_s\": ", (unsigned long)r->faults,
             (unsigned long)r->fault_ticks);
     sim_jnum(f, r->first_fault_t_s);

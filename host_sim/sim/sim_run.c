@@ -35,6 +35,7 @@ static void sim_result_clear(sim_result_t *res)
     res->nees_avg = res->nees_lo = res->nees_hi = SIM_NAN;
     res->nis_avg = res->nis_lo = res->nis_hi = res->nis_dof_avg = SIM_NAN;
     res->first_fault_t_s = SIM_NAN;
+    sim_tracking_init(&res->tracking);
 }
 
 int sim_check_options(const sim_options_t *opt)
@@ -398,10 +399,12 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
                 return rc;
             }
         }
+        sim_tracking_add(&res->tracking, t_s, row.target_rad, tr[TVM_PHI]);
         if (opt->row_fn != NULL) {
             opt->row_fn(&row, opt->row_user);
         }
     }
+    sim_tracking_finish(&res->tracking);
 
     /* summary */
     if (res->n_scored > 0u) {
