@@ -77,6 +77,26 @@ int cli_is_one_of(const char *a, const char *const *names)
     return 0;
 }
 
+int cli_option_value(const char *prog, const char *a, const char *v, const char *const *takes_value)
+{
+    if (!cli_is_one_of(a, takes_value)) {
+        return cli_usage_error(prog, "unknown option '%s'", a);
+    }
+    if (v == NULL) {
+        return cli_usage_error(prog, "option %s needs a value", a);
+    }
+    return 0;
+}
+
+int cli_set_input(const char *prog, const char **in_path, const char *a)
+{
+    if (*in_path != NULL) {
+        return cli_usage_error(prog, "more than one input (%s and %s)", *in_path, a);
+    }
+    *in_path = a;
+    return 0;
+}
+
 static const char *const s_noise_opts[CLI_NOISE_N] = {"--qu", "--qT", "--r-current", "--r-angle", "--r-velocity"};
 static const char *const s_noise_keys[CLI_NOISE_N] = {"ekf.qu_V2_s", "ekf.qT_Nm2_s", "ekf.r_current_A2",
                                                       "ekf.r_angle_rad2", "ekf.r_velocity_rad2_s2"};

@@ -39,6 +39,19 @@ int cli_usage_error(const char *prog, const char *fmt, ...)
 /** 1 when a is one of the NULL-terminated names (an option that takes a value), else 0. */
 int cli_is_one_of(const char *a, const char *const *names);
 
+/**
+ * Check an option that takes a value: a must be one of takes_value (NULL-terminated) and its
+ * value v (the next argument, NULL when there is none) must be present.
+ * @return 0; or CLI_EXIT_USAGE after a one-line usage error ("unknown option", "needs a value")
+ */
+int cli_option_value(const char *prog, const char *a, const char *v, const char *const *takes_value);
+
+/**
+ * Take a positional argument as the one input path: *in_path is set the first time.
+ * @return 0; or CLI_EXIT_USAGE after a usage error naming both when an input was already given
+ */
+int cli_set_input(const char *prog, const char **in_path, const char *a);
+
 /** The noise overrides, by index. */
 typedef enum {
     CLI_NOISE_QU = 0,     /**< --qu: armature voltage noise density [V^2 s], >= 0 */

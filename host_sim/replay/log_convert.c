@@ -73,17 +73,13 @@ int main(int argc, char **argv)
             return RLR_EXIT_OK;
         }
         if (strcmp(a, "-") == 0 || a[0] != '-') {
-            if (in_path != NULL) {
-                return usage_error("more than one input (%s and %s)", in_path, a);
+            if (cli_set_input(s_prog, &in_path, a) != 0) {
+                return CLI_EXIT_USAGE;
             }
-            in_path = a;
             continue;
         }
-        if (!cli_is_one_of(a, takes_value)) {
-            return usage_error("unknown option '%s'", a);
-        }
-        if (v == NULL) {
-            return usage_error("option %s needs a value", a);
+        if (cli_option_value(s_prog, a, v, takes_value) != 0) {
+            return CLI_EXIT_USAGE;
         }
         ++k;
         if (strcmp(a, "--from") == 0) {

@@ -218,11 +218,8 @@ int main(int argc, char **argv)
             print_params = 1;
             continue;
         }
-        if (!cli_is_one_of(a, takes_value)) {
-            return usage_error("unknown option '%s'", a);
-        }
-        if (v == NULL) {
-            return usage_error("option %s needs a value", a);
+        if (cli_option_value(s_prog, a, v, takes_value) != 0) {
+            return CLI_EXIT_USAGE;
         }
         ++k;
         if (strcmp(a, "--scenario") == 0) {
