@@ -21,12 +21,12 @@ count() { # count <label> <toggle function> <cmd...>
 echo "instructions per EKF step (x86-64, $(basename "$build"), valgrind callgrind, $steps steps)"
 printf '%-58s %10s\n' "workload" "instr/step"
 for v in f32 f64; do
-  count "C $v filter arithmetic only, current+angle" bench_run "$build/tests/bench_ekf_$v" filter "$steps" 2
-  count "C $v filter arithmetic only, current+velocity+angle" bench_run "$build/tests/bench_ekf_$v" filter "$steps" 3
-  count "C $v filter + model (predict+correct), current+angle" bench_run "$build/tests/bench_ekf_$v" full "$steps" 2
-  count "C $v filter + model, current+velocity+angle" bench_run "$build/tests/bench_ekf_$v" full "$steps" 3
+  count "C $v filter arithmetic only, current+angle" bench_run "$build/bin/bench_ekf_$v" filter "$steps" 2
+  count "C $v filter arithmetic only, current+velocity+angle" bench_run "$build/bin/bench_ekf_$v" filter "$steps" 3
+  count "C $v filter + model (predict+correct), current+angle" bench_run "$build/bin/bench_ekf_$v" full "$steps" 2
+  count "C $v filter + model, current+velocity+angle" bench_run "$build/bin/bench_ekf_$v" full "$steps" 3
 done
-if [ -x "$build/tests/bench_ref" ]; then
-  count "Eigen reference filter arithmetic only" bench_loop_filter "$build/tests/bench_ref" filter "$steps"
-  count "Eigen reference filter + model (AutoDiff Jacobian)" bench_loop_full "$build/tests/bench_ref" full "$steps"
+if [ -x "$build/bin/bench_ref" ]; then
+  count "Eigen reference filter arithmetic only" bench_loop_filter "$build/bin/bench_ref" filter "$steps"
+  count "Eigen reference filter + model (AutoDiff Jacobian)" bench_loop_full "$build/bin/bench_ref" full "$steps"
 fi
