@@ -171,6 +171,134 @@ static void test_health_record_counts_variance_bounds(void)
     TV_CHECK_EQ_INT(h.n_predict, 2);
 }
 
+/* A sample with both tracks at angle phi1 / phi2 [rad] and the current channel at cur counts. */
+static app_input_t sample_tracks(const app_t *app, uint64_t t_us, tv_real_t phi1, tv_real_t phi2, uint16_t cur)
+{
+    app_input_t in = sample_at(app, t_us);
+    const app_calib_t *c = &app->cfg.calib;
+    in.adc[0] = cur;
+    in.adc[1] = (uint16_t)(c->tps1_counts_at_zero + phi1 / c->tps1_rad_per_count + TV_R(0.5));
+    in.adc[2] = (uint16_t)(c->tps2_counts_at_zero + phi2 / c->tps2_rad_per_count + TV_R(0.5));
+    return in;
+}
+
+/* Run n samples from t_us on; check each step's correction used exactly the expected channels
+ * and flags. Returns the last output. */
+static app_output_t run_channels(app_t *app, uint64_t *t_us, int n, app_input_t (*make)(const app_t *, uint64_t),
+                                 int want_current, int want_angle, uint32_t want_degraded)
+{
+    app_output_t out;
+    int k;
+    memset(&out, 0, sizeof out);
+    for (k = 0; k < n; ++k) {
+        app_input_t in;
+        *t_us += 1000u;
+        in = make(app, *t_us);
+        app_step(app, &in, &out);
+        TV_CHECK_EQ_INT(out.ekf_status, TV_OK);
+        TV_CHECK_EQ_INT(out.innov.used[EKF_CH_CURRENT], want_current);
+        TV_CHECK_EQ_INT(out.innov.used[EKF_CH_ANGLE], want_angle);
+        TV_CHECK_EQ_INT(out.degraded, want_degraded);
+    }
+    return out;
+}
+
+static app_input_t in_current_at_rail(const app_t *app, uint64_t t)
+{
+    return sample_tracks(app, t, TV_R(0.3), TV_R(0.3), 4095u);
+}
+static app_input_t in_tps1_open(const app_t *app, uint64_t t)
+{
+    app_input_t in = sample_tracks(app, t, TV_R(0.3), TV_R(0.3), 2048u);
+    in.adc[1] = 0u; /* open circuit: the pin reads 0 */
+    return in;
+}
+static app_input_t in_tps1_back_but_wrong(const app_t *app, uint64_t t)
+{
+    return sample_tracks(app, t, TV_R(0.1), TV_R(0.3), 2048u); /* in range, 0.2 rad off */
+}
+static app_input_t in_tps2_shorted(const app_t *app, uint64_t t)
+{
+    app_input_t in = sample_tracks(app, t, TV_R(0.3), TV_R(0.3), 2048u);
+    in.adc[2] = 4095u; /* short to the reference */
+    return in;
+}
+static app_input_t in_both_open(const app_t *app, uint64_t t)
+{
+    app_input_t in = sample_tracks(app, t, TV_R(0.3), TV_R(0.3), 2048u);
+    in.adc[1] = 0u;
+    in.adc[2] = 0u;
+    return in;
+}
+static app_input_t in_disagree(const app_t *app, uint64_t t)
+{
+    return sample_tracks(app, t, TV_R(0.3), TV_R(0.6), 2048u);
+}
+
+static void start_at_rest(app_t *app, uint64_t *t_us)
+{
+    app_config_t cfg;
+    app_output_t out;
+    app_input_t in;
+    app_config_default(&cfg);
+    cfg.control.mode = APP_MODE_OFF;
+    TV_CHECK_EQ_INT(app_init(app, &cfg), TV_OK);
+    *t_us = 1000u;
+    in = sample_at(app, *t_us);
+    app_step(app, &in, &out);
+}
+
+/* Graceful loss of a channel, per channel (issue 10): the lost one is left out of the
+ * correction, the other keeps correcting, the step says what it did without. The current at its
+ * ADC rail used to latch the range fault and stop EVERY correction. The angle estimate must
+ * reach the angle the good channels give (0.3 rad) within 2 mrad over 60 samples (4 ADC counts:
+ * the estimate follows a direct angle measurement in a few samples). */
+static void test_current_at_rail_leaves_the_angle_correcting(void)
+{
+    static app_t app;
+    uint64_t t_us;
+    app_output_t out;
+    start_at_rest(&app, &t_us);
+    out = run_channels(&app, &t_us, 60, in_current_at_rail, 0, 1, APP_DEGRADED_CURRENT);
+    TV_CHECK((out.faults & APP_FAULT_CURRENT_RANGE) != 0u); /* debounced and latched, as before */
+    TV_CHECK_NEAR(out.x[TVM_PHI], 0.3, 2e-3);
+}
+
+static void test_one_lost_track_continues_on_the_other(void)
+{
+    static app_t app;
+    uint64_t t_us;
+    app_output_t out;
+    start_at_rest(&app, &t_us);
+    out = run_channels(&app, &t_us, 60, in_tps1_open, 1, 1, APP_DEGRADED_TPS1);
+    TV_CHECK((out.faults & APP_FAULT_TPS1_RANGE) != 0u);
+    TV_CHECK_EQ_INT(out.faults & APP_FAULT_TPS_DISAGREE, 0); /* a lost track cannot disagree */
+    TV_CHECK_NEAR(out.x[TVM_PHI], 0.3, 2e-3);
+    /* the track comes back in range but wrong: latched lost, it stays out */
+    out = run_channels(&app, &t_us, 30, in_tps1_back_but_wrong, 1, 1, APP_DEGRADED_TPS1);
+    TV_CHECK_NEAR(out.x[TVM_PHI], 0.3, 2e-3);
+    /* the other track */
+    start_at_rest(&app, &t_us);
+    out = run_channels(&app, &t_us, 60, in_tps2_shorted, 1, 1, APP_DEGRADED_TPS2);
+    TV_CHECK((out.faults & APP_FAULT_TPS2_RANGE) != 0u);
+    TV_CHECK_NEAR(out.x[TVM_PHI], 0.3, 2e-3);
+}
+
+static void test_no_usable_angle_leaves_the_current_correcting(void)
+{
+    static app_t app;
+    uint64_t t_us;
+    app_output_t out;
+    start_at_rest(&app, &t_us);
+    out = run_channels(&app, &t_us, 30, in_both_open, 1, 0, APP_DEGRADED_ANGLE);
+    TV_CHECK((out.faults & (APP_FAULT_TPS1_RANGE | APP_FAULT_TPS2_RANGE)) == (APP_FAULT_TPS1_RANGE | APP_FAULT_TPS2_RANGE));
+    TV_CHECK_EQ_INT(out.bridge_enable, 0);
+    /* both in range and 0.3 rad apart: nothing tells which is right, the angle is left out */
+    start_at_rest(&app, &t_us);
+    out = run_channels(&app, &t_us, 30, in_disagree, 1, 0, APP_DEGRADED_ANGLE);
+    TV_CHECK((out.faults & APP_FAULT_TPS_DISAGREE) != 0u);
+}
+
 int main(void)
 {
     TV_TEST_RUN(test_gap_is_predicted_across_one_period_at_a_time);
@@ -178,5 +306,8 @@ int main(void)
     TV_TEST_RUN(test_excitation_phase_is_exact_after_an_hour_and_a_day);
     TV_TEST_RUN(test_clearing_the_estimator_fault_restarts_the_estimator);
     TV_TEST_RUN(test_health_record_counts_variance_bounds);
+    TV_TEST_RUN(test_current_at_rail_leaves_the_angle_correcting);
+    TV_TEST_RUN(test_one_lost_track_continues_on_the_other);
+    TV_TEST_RUN(test_no_usable_angle_leaves_the_current_correcting);
     return tv_test_summary();
 }

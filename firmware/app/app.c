@@ -344,6 +344,8 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     const app_limits_t *lim;
     uint32_t periods = 1u;
     int sample_ok;
+    int angle_ok;
+    unsigned use_mask;
     tv_real_t phi1;
     tv_real_t phi2;
     tv_real_t angle;
@@ -386,19 +388,40 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     angle = (phi1 + phi2) * TV_R(0.5);
     out->supply_V = (tv_real_t)in->adc[3] * cal->supply_V_per_count;
 
-    /* Plausibility, debounced. A sample failing any check is not used for correction. */
+    /* Plausibility, debounced into latched faults; per channel, what this sample can correct
+     * with (app.h, APP_DEGRADED_*): an implausible channel is left out, the others correct. */
     {
         const int f_cur = in->adc[0] < lim->current_min_counts || in->adc[0] > lim->current_max_counts;
         const int f_t1 = in->adc[1] < lim->tps_min_counts || in->adc[1] > lim->tps_max_counts;
         const int f_t2 = in->adc[2] < lim->tps_min_counts || in->adc[2] > lim->tps_max_counts;
-        const int f_dis = TV_FABS(phi1 - phi2) > lim->tps_disagree_max_rad;
+        const int t1_lost = f_t1 || (app->faults & APP_FAULT_TPS1_RANGE) != 0u;
+        const int t2_lost = f_t2 || (app->faults & APP_FAULT_TPS2_RANGE) != 0u;
+        /* the tracks can only disagree when both are there */
+        const int f_dis = !t1_lost && !t2_lost && TV_FABS(phi1 - phi2) > lim->tps_disagree_max_rad;
         const int f_sup = out->supply_V < lim->supply_min_V || out->supply_V > lim->supply_max_V;
         debounce(app, CHK_CURRENT, f_cur);
         debounce(app, CHK_TPS1, f_t1);
         debounce(app, CHK_TPS2, f_t2);
         debounce(app, CHK_DISAGREE, f_dis);
         debounce(app, CHK_SUPPLY, f_sup);
-        sample_ok = !(f_cur || f_t1 || f_t2 || f_dis || f_sup);
+        use_mask = EKF_CH_BIT(EKF_CH_CURRENT) | EKF_CH_BIT(EKF_CH_VELOCITY) | EKF_CH_BIT(EKF_CH_ANGLE);
+        if (f_cur) {
+            use_mask &= ~EKF_CH_BIT(EKF_CH_CURRENT);
+            out->degraded |= APP_DEGRADED_CURRENT;
+        }
+        if (t1_lost && !t2_lost) {
+            angle = phi2;
+            out->degraded |= APP_DEGRADED_TPS1;
+        } else if (t2_lost && !t1_lost) {
+            angle = phi1;
+            out->degraded |= APP_DEGRADED_TPS2;
+        } else if ((t1_lost && t2_lost) || f_dis) {
+            use_mask &= ~(EKF_CH_BIT(EKF_CH_ANGLE) | EKF_CH_BIT(EKF_CH_VELOCITY));
+            out->degraded |= APP_DEGRADED_ANGLE;
+        }
+        /* the supply only scales the voltage of the next period: it does not spoil this sample */
+        sample_ok = (use_mask & (EKF_CH_BIT(EKF_CH_CURRENT) | EKF_CH_BIT(EKF_CH_ANGLE))) != 0u;
+        angle_ok = (use_mask & EKF_CH_BIT(EKF_CH_ANGLE)) != 0u;
     }
     if (in->driver_fault) {
         app->faults |= APP_FAULT_DRIVER;
@@ -427,7 +450,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     }
     app->open_after_missed = 0u;
     if (out->ekf_status == TV_OK && sample_ok && periods > 0u) {
-        out->ekf_status = ekf_correct(&app->ekf, &meas, &out->innov);
+        out->ekf_status = ekf_correct_channels(&app->ekf, &meas, use_mask, &out->innov);
     }
     if (out->ekf_status != TV_OK) {
         if (app->ekf_fail_run < 0xFFFFu) {
@@ -439,7 +462,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     } else {
         app->ekf_fail_run = 0u;
     }
-    if (sample_ok && periods > 0u) {
+    if (angle_ok && periods > 0u) {
         app->last_angle_rad = angle;
         app->last_angle_t_us = in->t_us;
         app->have_last_angle = 1u;

@@ -144,7 +144,25 @@ typedef struct {
     int ekf_status;        /**< status of this step's correction (0 ok) */
     uint32_t faults;       /**< latched APP_FAULT_* mask */
     uint32_t missing_samples; /**< samples missing before this one (predicted across) */
+    uint32_t degraded;     /**< APP_DEGRADED_* mask: what this step's correction had to do without */
 } app_output_t;
+
+/**
+ * Graceful loss of a channel (app_output_t::degraded, per step). A channel that is implausible
+ * this sample (outside its plausible counts: at an ADC rail, an open or shorted track) is left
+ * out of the correction and the others still correct; a position track whose range fault has
+ * latched stays out until the fault is cleared, and the angle comes from the other track alone
+ * (the limp mode of an ECU's estimation: one track, flagged). When both tracks are in range but
+ * disagree, nothing tells which one is right: the angle is left out. The latched faults keep
+ * their action (safe state) on the outputs; the per-code actions (limited authority on one
+ * track, ...) belong to the diagnostic codes.
+ */
+enum {
+    APP_DEGRADED_CURRENT = 1u << 0, /**< current channel left out of this correction */
+    APP_DEGRADED_TPS1 = 1u << 1,    /**< track 1 lost: the angle is track 2 alone */
+    APP_DEGRADED_TPS2 = 1u << 2,    /**< track 2 lost: the angle is track 1 alone */
+    APP_DEGRADED_ANGLE = 1u << 3    /**< no usable angle this sample (both tracks lost, or they disagree) */
+};
 
 /** Application state. Allocate statically; initialise with app_init(). */
 typedef struct {

@@ -378,6 +378,12 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, int j, tv_real_t z, tv_r
 
 int ekf_correct(ekf_t *ekf, const ekf_meas_t *meas, ekf_innov_t *out)
 {
+    return ekf_correct_channels(ekf, meas, EKF_CH_BIT(EKF_CH_CURRENT) | EKF_CH_BIT(EKF_CH_VELOCITY) | EKF_CH_BIT(EKF_CH_ANGLE),
+                                out);
+}
+
+int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_innov_t *out)
+{
     static const int channel_state[EKF_NCH] = {TVM_I, TVM_W, TVM_PHI};
     ekf_innov_t res;
     tv_real_t x[TVM_NX];
@@ -390,9 +396,9 @@ int ekf_correct(ekf_t *ekf, const ekf_meas_t *meas, ekf_innov_t *out)
         }
         return TV_ERR_NULL;
     }
-    use[EKF_CH_CURRENT] = 1;
-    use[EKF_CH_VELOCITY] = ekf->cfg.setup == EKF_SETUP_PAPER_3MEAS ? 1 : 0;
-    use[EKF_CH_ANGLE] = 1;
+    use[EKF_CH_CURRENT] = (mask & EKF_CH_BIT(EKF_CH_CURRENT)) != 0u ? 1u : 0u;
+    use[EKF_CH_VELOCITY] = ekf->cfg.setup == EKF_SETUP_PAPER_3MEAS && (mask & EKF_CH_BIT(EKF_CH_VELOCITY)) != 0u ? 1u : 0u;
+    use[EKF_CH_ANGLE] = (mask & EKF_CH_BIT(EKF_CH_ANGLE)) != 0u ? 1u : 0u;
     /* Validate every used channel before touching anything. */
     for (ch = 0; ch < EKF_NCH; ++ch) {
         if (use[ch]) {
@@ -442,7 +448,9 @@ int ekf_correct(ekf_t *ekf, const ekf_meas_t *meas, ekf_innov_t *out)
     }
     memcpy(ekf->x, x, sizeof x);
     memcpy(ekf->P, P, sizeof(mat3_t));
-    ++ekf->n_correct;
+    if (res.n_used > 0u) {
+        ++ekf->n_correct;
+    }
     if (out != NULL) {
         *out = res;
     }

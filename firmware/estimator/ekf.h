@@ -164,6 +164,18 @@ int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX
  */
 int ekf_correct(ekf_t *ekf, const ekf_meas_t *meas, ekf_innov_t *out);
 
+/** Channel bit of a mask for ekf_correct_channels(): EKF_CH_BIT(EKF_CH_ANGLE) etc. */
+#define EKF_CH_BIT(ch) (1u << (ch))
+
+/**
+ * ekf_correct() with only the channels in mask (EKF_CH_BIT bits) that the set-up uses: a channel
+ * the application found implausible this sample (at its ADC rail, a lost position track) is left
+ * out and the others still correct. Channels outside the mask are not validated. With no channel
+ * left, nothing changes, out reports n_used = 0 and the call returns TV_OK (not a correction:
+ * n_correct does not count it).
+ */
+int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_innov_t *out);
+
 /** Standard deviations sqrt(P_ii) of the estimate (A, rad/s, rad). */
 void ekf_sigma(const ekf_t *ekf, tv_real_t sigma[TVM_NX]);
 

@@ -218,7 +218,7 @@ int main(int argc, char **argv)
             print_params = 1;
             continue;
         }
-        if (cli_option_value(s_prog, a, v, takes_value) != 0) {
+        if (cli_option_value(s_prog, a, v, takes_value) != 0 || v == NULL) { /* (v: for the analyser) */
             return CLI_EXIT_USAGE;
         }
         ++k;
