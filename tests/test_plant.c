@@ -1235,9 +1235,49 @@ static void test_time_grid_and_remainders(void)
     TV_CHECK_LE(fabs(sa.angle_rad - sb.angle_rad), 0.1 * fabs(sh.angle_rad - sb.angle_rad));
 }
 
+/* The position sensor is tied to the plate angle, not to where the stops are (issue 10): a unit
+ * whose open stop sits at 1.40 rad and closed stop at -0.12 rad reads, at the same plate angle,
+ * the same track counts as the default unit (noise off: exactly the same), so the application
+ * sees the stops where they are. */
+static void test_tracks_follow_the_angle_not_the_stops(void)
+{
+    static plant_t a;
+    static plant_t b;
+    plant_config_t ca;
+    plant_config_t cb;
+    plant_state_t st;
+    plant_adc_t sa;
+    plant_adc_t sb;
+    plant_config_default(&ca);
+    ca.angle_noise_rad = 0.0;
+    ca.current_noise_A = 0.0;
+    ca.supply_noise_V = 0.0;
+    cb = ca;
+    cb.phi_open_rad = 1.40;
+    cb.phi_closed_rad = -0.12;
+    TV_CHECK_EQ_INT(plant_init(&a, &ca, 1u), TV_OK);
+    TV_CHECK_EQ_INT(plant_init(&b, &cb, 1u), TV_OK);
+    st.current_A = 0.0;
+    st.velocity_rad_s = 0.0;
+    st.angle_rad = 0.5;
+    TV_CHECK_EQ_INT(plant_set_state(&a, &st), TV_OK);
+    TV_CHECK_EQ_INT(plant_set_state(&b, &st), TV_OK);
+    TV_CHECK_EQ_INT(plant_sample(&a, &sa), TV_OK);
+    TV_CHECK_EQ_INT(plant_sample(&b, &sb), TV_OK);
+    TV_CHECK_EQ_INT(sa.tps1_counts, sb.tps1_counts);
+    TV_CHECK_EQ_INT(sa.tps2_counts, sb.tps2_counts);
+    /* and the reference angles are configurable: moving them moves the reading */
+    cb.tps_ref_closed_rad = -0.12;
+    TV_CHECK_EQ_INT(plant_init(&b, &cb, 1u), TV_OK);
+    TV_CHECK_EQ_INT(plant_set_state(&b, &st), TV_OK);
+    TV_CHECK_EQ_INT(plant_sample(&b, &sb), TV_OK);
+    TV_CHECK(sb.tps1_counts != sa.tps1_counts);
+}
+
 int main(void)
 {
     TV_TEST_RUN(test_config_defaults_are_the_documented_values);
+    TV_TEST_RUN(test_tracks_follow_the_angle_not_the_stops);
     TV_TEST_RUN(test_config_invalid_values_are_rejected_and_named);
     TV_TEST_RUN(test_invalid_calls_are_rejected_without_side_effects);
     TV_TEST_RUN(test_locked_rotor_current_is_u_over_R);

@@ -277,6 +277,31 @@ def main():
     cal = csv_log(good_rows(3), "# sample_rate_Hz: 1000\n# tps1_rad_per_count: 0\n")
     expect([exe("replay"), write("cal0.csv", cal)], 4, "cal0.csv:3: metadata tps1_rad_per_count = 0 must be > 0")
 
+    # the plant's own parameters (issue 10): print, read back, refuse bad keys, change the run
+    out, _ = expect([exe("host_sim"), "--print-plant-params"], 0)
+    check(b"plant.R_ohm = 4.3\n" in out and b"plant.phi_open_rad = " in out, "--print-plant-params lists the keys")
+    write("plant_defaults.txt", out.decode())
+    out2, _ = expect([exe("host_sim"), "--plant-params", path("plant_defaults.txt"), "--print-plant-params"], 0)
+    check(out2 == out, "a printed plant parameter file reads back to the same values")
+    write("plant_bad.txt", "# comment\nplant.R_ohm = 4.5\nplant.bogus = 1\n")
+    expect([exe("host_sim"), "--plant-params", path("plant_bad.txt")], 3, "plant_bad.txt:3: unknown key 'plant.bogus'")
+    write("plant_dup.txt", "plant.R_ohm = 4.5\nplant.R_ohm = 4.6\n")
+    expect([exe("host_sim"), "--plant-params", path("plant_dup.txt")], 3, "plant_dup.txt:2: duplicate key")
+    write("plant_hex.txt", "plant.J_kg_m2 = 0x1p-9\n")
+    expect([exe("host_sim"), "--plant-params", path("plant_hex.txt")], 3, "is not a decimal number")
+    write("plant_ms.txt", "plant.Mc_Nm = 0.5\n")
+    expect([exe("host_sim"), "--plant-params", path("plant_ms.txt")], 3, "plant.Ms_Nm", "refuses")
+    expect([exe("host_sim"), "--plant-params", "/dev/zero"], 3, "NUL byte")
+    expect([exe("host_sim"), "--duration", "0.5", "--out", path("pl_def")], 0)
+    expect([exe("host_sim"), "--duration", "0.5", "--out", path("pl_same"), "--plant-params",
+            path("plant_defaults.txt")], 0)
+    check(open(path("pl_def/paper_sine.csv")).read() == open(path("pl_same/paper_sine.csv")).read(),
+          "the defaults as a plant file give the default run exactly")
+    write("plant_stops.txt", "plant.phi_open_rad = 1.40\nplant.phi_closed_rad = -0.12\n")
+    expect([exe("host_sim"), "--duration", "0.5", "--out", path("pl_st"), "--plant-params", path("plant_stops.txt")], 0)
+    check(open(path("pl_def/paper_sine.csv")).read() != open(path("pl_st/paper_sine.csv")).read(),
+          "a plant with other stops runs differently")
+
     print("%d checks, %d failed" % (CHECKS[0], len(FAILED)))
     return 1 if FAILED else 0
 

@@ -105,6 +105,8 @@ void plant_config_default(plant_config_t *cfg)
     cfg->tps_supply_V = 5.0;
     cfg->tps_offset_frac = 0.10;
     cfg->tps_span_frac = 0.80;
+    cfg->tps_ref_closed_rad = cfg->phi_closed_rad;
+    cfg->tps_ref_open_rad = cfg->phi_open_rad;
     cfg->angle_noise_rad = 1e-4;
     cfg->tps_noise_V = 0.0;
     cfg->tps_divider_gain = 0.66;
@@ -176,6 +178,8 @@ static const char *plant_config_check_impl(const plant_config_t *cfg, int *st)
     PLANT_CHECK_REAL(tps_offset_frac, cfg->tps_offset_frac >= 0.0 && cfg->tps_offset_frac < 1.0);
     PLANT_CHECK_REAL(tps_span_frac, cfg->tps_span_frac > 0.0 &&
                                         cfg->tps_offset_frac + cfg->tps_span_frac <= 1.0);
+    PLANT_CHECK_REAL(tps_ref_closed_rad, cfg->tps_ref_closed_rad >= -1.0 && cfg->tps_ref_closed_rad <= 1.0);
+    PLANT_CHECK_REAL(tps_ref_open_rad, cfg->tps_ref_open_rad > cfg->tps_ref_closed_rad && cfg->tps_ref_open_rad <= 3.0);
     PLANT_CHECK_REAL(angle_noise_rad, cfg->angle_noise_rad >= 0.0 && cfg->angle_noise_rad <= 1.0);
     PLANT_CHECK_REAL(tps_noise_V, cfg->tps_noise_V >= 0.0 && cfg->tps_noise_V <= 100.0);
     PLANT_CHECK_REAL(tps_divider_gain, cfg->tps_divider_gain > 0.0 && cfg->tps_divider_gain <= 1.0);
@@ -668,8 +672,8 @@ int plant_sample(plant_t *plant, plant_adc_t *out)
 
     out->t_s = plant_time_s(plant);
     out->current_pin_V = cfg->current_offset_V + cfg->current_gain_V_A * (plant->current_A + n_i_A);
-    x = (plant->angle_rad + n_phi_rad - cfg->phi_closed_rad) /
-        (cfg->phi_open_rad - cfg->phi_closed_rad);
+    x = (plant->angle_rad + n_phi_rad - cfg->tps_ref_closed_rad) /
+        (cfg->tps_ref_open_rad - cfg->tps_ref_closed_rad);
     out->tps1_pin_V =
         cfg->tps_divider_gain *
         plant_clamp(cfg->tps_supply_V * (cfg->tps_offset_frac + cfg->tps_span_frac * x) + n_e1_V,

@@ -168,10 +168,16 @@ typedef struct {
                                   current [A], default 0.01; >= 0 */
     /* --- position sensor (two ratiometric tracks of opposite slope) --- */
     double tps_supply_V;     /**< sensor supply (ratiometric reference) [V], default 5.0; > 0 */
-    double tps_offset_frac;  /**< track 1 output at the closed stop, fraction of tps_supply_V [-],
-                                  default 0.10; >= 0, offset + span <= 1 */
-    double tps_span_frac;    /**< track 1 rise from closed to open stop, fraction of tps_supply_V
-                                  [-], default 0.80; > 0 */
+    double tps_offset_frac;  /**< track 1 output at the angle tps_ref_closed_rad, fraction of
+                                  tps_supply_V [-], default 0.10; >= 0, offset + span <= 1 */
+    double tps_span_frac;    /**< track 1 rise from tps_ref_closed_rad to tps_ref_open_rad, fraction
+                                  of tps_supply_V [-], default 0.80; > 0 */
+    double tps_ref_closed_rad; /**< plate angle at which track 1 reads tps_offset_frac [rad], default
+                                    -0.10 (the default closed stop). The sensor's transfer is tied to
+                                    the plate angle, not to where the stops are: a unit whose stop
+                                    sits elsewhere is seen there by the tracks */
+    double tps_ref_open_rad; /**< plate angle at which track 1 reads offset + span [rad], default the
+                                  default open stop; > tps_ref_closed_rad */
     double angle_noise_rad;  /**< standard deviation of the plate-angle noise seen by both tracks
                                   (one realisation shared) [rad], default 1e-4; >= 0 */
     double tps_noise_V;      /**< standard deviation of the independent electrical noise added to

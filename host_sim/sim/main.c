@@ -16,6 +16,7 @@
 
 #include "cli.h"
 #include "params.h"
+#include "plant_params.h"
 #include "rawlog_write.h"
 #include "sim.h"
 #include "tv_status.h"
@@ -35,6 +36,7 @@ static const char *s_prog = "host_sim";
 
 /* Parameter settings and the raw-log writer (large: static). */
 static params_t s_params;
+static plant_config_t s_plant_cfg;
 static app_config_t s_app_cfg;
 static rlw_t s_raw;
 
@@ -73,7 +75,7 @@ static void usage(FILE *f)
             "usage: %s [--scenario NAME] [--duration S] [--seed N] [--mc N] [--setup 2|3]\n"
             "          [--qu X] [--qT X] [--r-current X] [--r-angle X] [--r-velocity X]\n"
             "          [--pwm-ripple] [--drop-every N] [--out DIR] [--params FILE] [--print-params]\n"
-            "          [--raw-log PATH [--raw-format csv|bin]] [--help]\n"
+            "          [--raw-log PATH [--raw-format csv|bin]] [--plant-params FILE] [--print-plant-params] [--help]\n"
             "\n"
             "Runs the firmware's 1 kHz application (double build) against the high-fidelity plant.\n"
             "With no arguments: the paper's experiment (paper_sine, 2 s, seed 1) into out/.\n"
@@ -107,6 +109,11 @@ static void usage(FILE *f)
             "  --raw-log PATH    also write the raw ADC stream the application read (counts, duty,\n"
             "                    driver fault, bridge enable, plant truth) for replay\n"
             "  --raw-format F    csv (default) or bin (TVRAWLOG), host_sim/replay/LOG_FORMATS.md\n"
+            "  --plant-params FILE  the PLANT's own parameters (plant.FIELD = value lines,\n"
+            "                    host_sim/plant/plant_params.h): a unit that differs from the filter's\n"
+            "                    model (--params sets the filter's)\n"
+            "  --print-plant-params  print the plant parameter file of the defaults (with\n"
+            "                    --plant-params: of that file) and exit\n"
             "Outputs: DIR/<scenario>.csv, DIR/<scenario>_metrics.txt, DIR/<scenario>_metrics.json.\n"
             "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n",
             SIM_DURATION_MAX_S, SIM_MC_SEEDS_MAX, (double)EKF_DEFAULT_QU_V2_S, (double)EKF_DEFAULT_QT_NM2_S);
@@ -194,10 +201,12 @@ int main(int argc, char **argv)
     const char *raw_path = NULL;
     rlr_format_t raw_format = RLR_FMT_CSV;
     int print_params = 0;
+    int print_plant_params = 0;
+    const char *plant_params_path = NULL;
     cli_noise_overrides_t ov;
     static const char *const takes_value[] = {"--scenario", "--duration", "--seed", "--mc", "--setup", "--qu", "--qT",
                                               "--r-current", "--r-angle", "--r-velocity", "--drop-every", "--out",
-                                              "--params", "--raw-log", "--raw-format", NULL};
+                                              "--params", "--raw-log", "--raw-format", "--plant-params", NULL};
 
     sim_options_default(&opt);
     memset(&ov, 0, sizeof ov);
@@ -218,6 +227,10 @@ int main(int argc, char **argv)
             print_params = 1;
             continue;
         }
+        if (strcmp(a, "--print-plant-params") == 0) {
+            print_plant_params = 1;
+            continue;
+        }
         if (cli_option_value(s_prog, a, v, takes_value) != 0 || v == NULL) { /* (v: for the analyser) */
             return CLI_EXIT_USAGE;
         }
@@ -228,6 +241,8 @@ int main(int argc, char **argv)
             }
         } else if (strcmp(a, "--params") == 0) {
             params_path = v;
+        } else if (strcmp(a, "--plant-params") == 0) {
+            plant_params_path = v;
         } else if (strcmp(a, "--raw-log") == 0) {
             if (*v == '\0') {
                 return usage_error("option %s: empty path", a);
@@ -302,6 +317,22 @@ int main(int argc, char **argv)
     }
     if (ov.given[CLI_NOISE_R_VELOCITY]) {
         opt.r_velocity_rad2_s2 = ov.value[CLI_NOISE_R_VELOCITY];
+    }
+    if (plant_params_path != NULL || print_plant_params) {
+        /* the plant's own parameters: the simulated unit may differ from the filter's model */
+        plant_config_default(&s_plant_cfg);
+        if (plant_params_path != NULL) {
+            char err[PLANT_PARAMS_MSG_MAX];
+            rc = plant_params_load(plant_params_path, &s_plant_cfg, err, sizeof err);
+            if (rc != TV_OK) {
+                fprintf(stderr, "%s: %s\n", s_prog, err);
+                return rc == TV_ERR_IO ? MAIN_EXIT_FAIL : MAIN_EXIT_PARAMS;
+            }
+        }
+        if (print_plant_params) {
+            return plant_params_write(stdout, &s_plant_cfg) == TV_OK ? 0 : MAIN_EXIT_FAIL;
+        }
+        opt.plant = &s_plant_cfg;
     }
     if (params_path != NULL || print_params) {
         char err[PARAMS_MSG_MAX];
@@ -382,7 +413,11 @@ int main(int argc, char **argv)
                 app_config_default(&def);
                 c = &def.calib;
             }
-            plant_config_default(&pc);
+            if (opt.plant != NULL) {
+                pc = *opt.plant;
+            } else {
+                plant_config_default(&pc);
+            }
             rawlog_header_default(&h);
             h.flags = RAWLOG_FLAG_TRUTH;
             h.adc_bits = (uint8_t)pc.adc_bits;
