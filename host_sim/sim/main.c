@@ -19,6 +19,7 @@
 #include "plant_params.h"
 #include "rawlog_write.h"
 #include "sim.h"
+#include "sim_unit.h"
 #include "tv_status.h"
 
 /** Exit code for a usage error. */
@@ -75,7 +76,8 @@ static void usage(FILE *f)
             "usage: %s [--scenario NAME] [--duration S] [--seed N] [--mc N] [--setup 2|3]\n"
             "          [--qu X] [--qT X] [--r-current X] [--r-angle X] [--r-velocity X]\n"
             "          [--pwm-ripple] [--drop-every N] [--out DIR] [--params FILE] [--print-params]\n"
-            "          [--raw-log PATH [--raw-format csv|bin]] [--plant-params FILE] [--print-plant-params] [--help]\n"
+            "          [--raw-log PATH [--raw-format csv|bin]] [--plant-params FILE] [--print-plant-params]\n"
+            "          [--plant-class a|b] [--unit ID [--spread stops|all]] [--help]\n"
             "\n"
             "Runs the firmware's 1 kHz application (double build) against the high-fidelity plant.\n"
             "With no arguments: the paper's experiment (paper_sine, 2 s, seed 1) into out/.\n"
@@ -113,7 +115,13 @@ static void usage(FILE *f)
             "                    host_sim/plant/plant_params.h): a unit that differs from the filter's\n"
             "                    model (--params sets the filter's)\n"
             "  --print-plant-params  print the plant parameter file of the defaults (with\n"
-            "                    --plant-params: of that file) and exit\n"
+            "                    --plant-params: of that file; with --unit: of the drawn unit) and exit\n"
+            "  --plant-class a|b the throttle class (host_sim/plant/plant_draw.h): a = the paper's,\n"
+            "                    b = a low-resistance motor; the filter runs on the class's nominal model\n"
+            "  --unit ID         a random unit of that class, drawn from the documented ranges\n"
+            "                    (the same ID is always the same unit); the ECU is calibrated for it\n"
+            "  --spread S        what --unit varies: stops (stops, contact, sensor front end) or all\n"
+            "                    (default: also motor, friction, springs)\n"
             "Outputs: DIR/<scenario>.csv, DIR/<scenario>_metrics.txt, DIR/<scenario>_metrics.json.\n"
             "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n",
             SIM_DURATION_MAX_S, SIM_MC_SEEDS_MAX, (double)EKF_DEFAULT_QU_V2_S, (double)EKF_DEFAULT_QT_NM2_S);
@@ -203,10 +211,17 @@ int main(int argc, char **argv)
     int print_params = 0;
     int print_plant_params = 0;
     const char *plant_params_path = NULL;
+    plant_class_t plant_class = PLANT_CLASS_A;
+    plant_spread_t spread = PLANT_SPREAD_ALL;
+    int class_given = 0;
+    int unit_given = 0;
+    int spread_given = 0;
+    uint64_t unit_id = 0u;
     cli_noise_overrides_t ov;
     static const char *const takes_value[] = {"--scenario", "--duration", "--seed", "--mc", "--setup", "--qu", "--qT",
                                               "--r-current", "--r-angle", "--r-velocity", "--drop-every", "--out",
-                                              "--params", "--raw-log", "--raw-format", "--plant-params", NULL};
+                                              "--params", "--raw-log", "--raw-format", "--plant-params", "--plant-class",
+                                              "--unit", "--spread", NULL};
 
     sim_options_default(&opt);
     memset(&ov, 0, sizeof ov);
@@ -243,6 +258,23 @@ int main(int argc, char **argv)
             params_path = v;
         } else if (strcmp(a, "--plant-params") == 0) {
             plant_params_path = v;
+        } else if (strcmp(a, "--plant-class") == 0) {
+            if (plant_class_from_name(v, &plant_class) != TV_OK) {
+                return usage_error("option %s: '%s' is not a or b", a, v);
+            }
+            class_given = 1;
+        } else if (strcmp(a, "--spread") == 0) {
+            if (plant_spread_from_name(v, &spread) != TV_OK) {
+                return usage_error("option %s: '%s' is not none, stops or all", a, v);
+            }
+            spread_given = 1;
+        } else if (strcmp(a, "--unit") == 0) {
+            const int prc = cli_parse_u64(v, &u);
+            if (prc != 0) {
+                return usage_error("option %s: '%s' is not an unsigned integer%s", a, v, prc == -2 ? " (too large)" : "");
+            }
+            unit_id = (uint64_t)u;
+            unit_given = 1;
         } else if (strcmp(a, "--raw-log") == 0) {
             if (*v == '\0') {
                 return usage_error("option %s: empty path", a);
@@ -318,9 +350,33 @@ int main(int argc, char **argv)
     if (ov.given[CLI_NOISE_R_VELOCITY]) {
         opt.r_velocity_rad2_s2 = ov.value[CLI_NOISE_R_VELOCITY];
     }
+    if (spread_given && !unit_given) {
+        return usage_error("--spread needs --unit ID (the unit it draws)");
+    }
+    if (unit_given && plant_params_path != NULL) {
+        return usage_error("--unit draws the plant; it cannot be combined with --plant-params");
+    }
+    if (class_given || unit_given) {
+        /* a unit of the population: its own plant, the ECU calibrated for it, the filter on its
+         * class's nominal model (sim_unit.h); --params still applies on top */
+        rc = unit_given ? plant_draw(plant_class, spread, unit_id, &s_plant_cfg)
+                        : plant_class_nominal(plant_class, &s_plant_cfg);
+        if (rc == TV_OK) {
+            rc = sim_app_config_for_unit(plant_class, &s_plant_cfg, &s_app_cfg);
+        }
+        if (rc != TV_OK) {
+            fprintf(stderr, "%s: unit %llu of class %s: %s\n", s_prog, (unsigned long long)unit_id,
+                    plant_class_name(plant_class), tv_status_str(rc));
+            return MAIN_EXIT_FAIL;
+        }
+        opt.plant = &s_plant_cfg;
+        opt.app = &s_app_cfg;
+    }
     if (plant_params_path != NULL || print_plant_params) {
         /* the plant's own parameters: the simulated unit may differ from the filter's model */
-        plant_config_default(&s_plant_cfg);
+        if (opt.plant == NULL) {
+            plant_config_default(&s_plant_cfg);
+        }
         if (plant_params_path != NULL) {
             char err[PLANT_PARAMS_MSG_MAX];
             rc = plant_params_load(plant_params_path, &s_plant_cfg, err, sizeof err);
@@ -344,7 +400,9 @@ int main(int argc, char **argv)
                 return rc == TV_ERR_IO ? MAIN_EXIT_FAIL : MAIN_EXIT_PARAMS;
             }
         }
-        app_config_default(&s_app_cfg);
+        if (opt.app == NULL) {
+            app_config_default(&s_app_cfg);
+        }
         rc = params_apply(&s_params, &s_app_cfg, err, sizeof err);
         if (rc != TV_OK) {
             fprintf(stderr, "%s: %s\n", s_prog, err);
