@@ -54,6 +54,8 @@ extern "C" {
 #define SIM_TRANSIENT_S 0.2
 /** Tick period of the simulation [s] (APP_PERIOD_US). */
 #define SIM_TICK_S 1e-3
+/** Window of sim_result_t::nees_window_max [ticks] (100 ms). */
+#define SIM_NEES_WINDOW 100u
 /** Longest run sim_run() accepts [s]. */
 #define SIM_DURATION_MAX_S 600.0
 /** Largest number of seeds sim_monte_carlo() accepts. */
@@ -81,6 +83,16 @@ typedef enum {
      *  still below stiction); from 1.2 s the voltage ramps up at 5 V/s and the plate breaks away
      *  again near 1.95 s (0.85 A) and opens; 2.2 s */
     SIM_SCN_STUCK_RELEASE,
+    /** APP_MODE_SINE 5 V / 0.5 Hz, 4 s: slow motion with stick-slip at each reversal */
+    SIM_SCN_SLOW_SINE,
+    /** APP_MODE_STEPS +-10 V at 1 Hz, 4 s: the plate dwells 0.5 s against each stop */
+    SIM_SCN_OPEN_STEPS,
+    /** APP_MODE_SINE 1.5 V / 2 Hz, 2 s: a small excitation that does not break the plate away
+     *  from limp-home (standstill) */
+    SIM_SCN_STANDSTILL,
+    /** closed loop to 0.8 rad, bridge disabled (the springs return the plate to limp-home),
+     *  closed loop to the lowest target, bridge disabled again; 0.6 s each, 2.4 s */
+    SIM_SCN_LIMP_HOME,
     SIM_SCN_COUNT /**< number of scenarios (not a scenario) */
 } sim_scenario_t;
 
@@ -182,6 +194,10 @@ typedef struct {
     uint32_t paper_eq12_resets;      /**< divergence-guard resets of SIM_EST_PAPER_EQ12 */
     uint32_t paper_eq12x_resets;     /**< divergence-guard resets of SIM_EST_PAPER_EQ12_EXACT */
     sim_tracking_t tracking;         /**< closed-loop tracking figures of the plant's angle (sim_tracking.h) */
+    double nees_window_max;          /**< largest average NEES over SIM_NEES_WINDOW consecutive scored ticks (NaN: too short) */
+    uint32_t consistency_episodes;   /**< times the application's consistency monitor raised a flag (nis_monitor.h) */
+    uint32_t consistency_flag_ticks; /**< ticks with a consistency flag raised */
+    double stops_learned[2];         /**< the application filter's stops at the end (closed, open) [rad] */
 } sim_result_t;
 
 /** Monte Carlo results (sim_monte_carlo()). */

@@ -16,8 +16,9 @@
 /* ------------------------------------------------------------------------------------------ */
 
 static const char *const s_scn_names[SIM_SCN_COUNT] = {"paper_sine", "closed_steps", "closed_ramp", "chirp",
-                                                       "stuck_release"};
-static const double s_scn_duration_s[SIM_SCN_COUNT] = {2.0, 2.5, 2.5, 2.0, 2.2};
+                                                       "stuck_release", "slow_sine", "open_steps", "standstill",
+                                                       "limp_home"};
+static const double s_scn_duration_s[SIM_SCN_COUNT] = {2.0, 2.5, 2.5, 2.0, 2.2, 4.0, 4.0, 2.0, 2.4};
 static const char *const s_est_names[SIM_EST_COUNT] = {"app filter", "paper set-up, our map", "paper as printed",
                                                        "paper, eq.12 predict", "paper, eq.12 + exact Jac.",
                                                        "measured / differentiated"};
@@ -29,7 +30,11 @@ static const char *const s_scn_descriptions[SIM_SCN_COUNT] = {
     "closed loop: position steps 0.2, 0.8, 0.05, 1.2 rad, 0.5 s each, 2.5 s (tracking figures per step)",
     "closed loop: hold 0.1 rad, ramp to 1.2 rad over 1 s and back, 2.5 s (tracking error)",
     "open-loop 12 V chirp 1 -> 20 Hz over 2 s",
-    "stick-slip: plate stuck at 0.5 rad, a 4.5 V pulse at 0.5 s, a 5 V/s ramp from 1.2 s, 2.2 s"};
+    "stick-slip: plate stuck at 0.5 rad, a 4.5 V pulse at 0.5 s, a 5 V/s ramp from 1.2 s, 2.2 s",
+    "open-loop 5 V / 0.5 Hz sine, 4 s (slow motion, stick-slip at each reversal)",
+    "open-loop +-10 V steps at 1 Hz, 4 s (dwells 0.5 s against each stop)",
+    "open-loop 1.5 V / 2 Hz sine, 2 s (too small to break away from limp-home)",
+    "closed loop to 0.8 rad, bridge off (spring return to limp-home), to the lowest target, off; 2.4 s"};
 
 const char *sim_scenario_description(sim_scenario_t s)
 {
@@ -103,6 +108,10 @@ static const double s_step_targets_rad[4] = {0.2, 0.8, 0.05, 1.2};
 #define SIM_STUCK_PULSE_V 4.5
 #define SIM_STUCK_RAMP_T_S 1.2
 #define SIM_STUCK_RAMP_V_S 5.0
+/* limp_home: phase length, the two targets (the second is clamped to the lowest allowed) */
+#define SIM_LIMP_PHASE_S 0.6
+#define SIM_LIMP_TARGET_HI_RAD 0.8
+#define SIM_LIMP_TARGET_LO_RAD (-1.0)
 
 /* Initial control of a scenario (before app_init). */
 void sim_scenario_control0(sim_scenario_t scn, app_control_t *c)
@@ -127,6 +136,25 @@ void sim_scenario_control0(sim_scenario_t scn, app_control_t *c)
         c->freq_Hz = TV_R(1.0);
         c->chirp_f1_Hz = TV_R(20.0);
         c->chirp_period_s = TV_R(2.0);
+        break;
+    case SIM_SCN_SLOW_SINE:
+        c->mode = APP_MODE_SINE;
+        c->amplitude_V = TV_R(5.0);
+        c->freq_Hz = TV_R(0.5);
+        break;
+    case SIM_SCN_OPEN_STEPS:
+        c->mode = APP_MODE_STEPS;
+        c->amplitude_V = TV_R(10.0);
+        c->freq_Hz = TV_R(1.0);
+        break;
+    case SIM_SCN_STANDSTILL:
+        c->mode = APP_MODE_SINE;
+        c->amplitude_V = TV_R(1.5);
+        c->freq_Hz = TV_R(2.0);
+        break;
+    case SIM_SCN_LIMP_HOME:
+        c->mode = APP_MODE_POSITION;
+        c->target_rad = (tv_real_t)SIM_LIMP_TARGET_HI_RAD;
         break;
     case SIM_SCN_STUCK_RELEASE:
     case SIM_SCN_COUNT:
@@ -189,8 +217,24 @@ int sim_scenario_update(sim_scenario_t scn, app_t *app, double t_s)
         }
         return TV_OK;
     }
+    case SIM_SCN_LIMP_HOME: {
+        /* phases: 0 closed loop high, 1 off, 2 closed loop low, 3 off (then repeating) */
+        const long phase = (long)floor(t_s / SIM_LIMP_PHASE_S + 1e-9) % 4;
+        app_control_t c = app->cfg.control;
+        c.mode = (phase % 2 == 0) ? APP_MODE_POSITION : APP_MODE_OFF;
+        if (c.mode != app->cfg.control.mode) {
+            int rc;
+            c.target_rad = phase == 0 ? (tv_real_t)SIM_LIMP_TARGET_HI_RAD : (tv_real_t)SIM_LIMP_TARGET_LO_RAD;
+            rc = app_set_control(app, &c);
+            return rc;
+        }
+        return TV_OK;
+    }
     case SIM_SCN_PAPER_SINE:
     case SIM_SCN_CHIRP:
+    case SIM_SCN_SLOW_SINE:
+    case SIM_SCN_OPEN_STEPS:
+    case SIM_SCN_STANDSTILL:
     case SIM_SCN_COUNT:
     default:
         return TV_OK;
