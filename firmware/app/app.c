@@ -45,6 +45,7 @@ void app_config_default(app_config_t *cfg)
     memset(cfg, 0, sizeof *cfg);
     tvm_params_default(&cfg->model);
     ekf_config_default(&cfg->ekf, EKF_SETUP_CURRENT_ANGLE);
+    nism_config_default(&cfg->nism);
     app_calib_default(&cfg->calib, &cfg->model);
     /* Tracks span 0.1..0.9 of full scale over the travel; a stop penetration of a few mrad
      * stays far inside 2..98 %. Outside it the track is open or shorted. */
@@ -136,9 +137,17 @@ int app_init(app_t *app, const app_config_t *cfg)
     if (rc != TV_OK) {
         return rc;
     }
+    {
+        nism_t probe;
+        rc = nism_init(&probe, &cfg->nism);
+        if (rc != TV_OK) {
+            return rc;
+        }
+    }
     memset(app, 0, sizeof *app);
     app->cfg = *cfg;
     app->ekf = ekf;
+    (void)nism_init(&app->nism, &cfg->nism); /* validated above */
     return TV_OK;
 }
 
@@ -155,6 +164,7 @@ void app_clear_faults(app_t *app)
          * alone let it fail on. Start it afresh from its configured x0 and P0: the configuration
          * was validated by app_init(), so ekf_init() cannot refuse it here. */
         (void)ekf_init(&app->ekf, &app->cfg.model, &app->cfg.ekf);
+        (void)nism_init(&app->nism, &app->cfg.nism); /* the old estimate's innovations are void */
         app->have_last_angle = 0u;
         /* the outputs are off while a fault is latched: the period now running is open-bridge,
          * seen from the fresh estimate (the old input was computed from the refused one) */
@@ -461,7 +471,11 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         }
     } else {
         app->ekf_fail_run = 0u;
+        if (out->innov.n_used > 0u) {
+            (void)nism_update(&app->nism, &out->innov);
+        }
     }
+    out->consistency = app->nism.flags;
     if (angle_ok && periods > 0u) {
         app->last_angle_rad = angle;
         app->last_angle_t_us = in->t_us;

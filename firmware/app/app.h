@@ -19,6 +19,7 @@
 #include <stdint.h>
 
 #include "ekf.h"
+#include "nis_monitor.h"
 #include "tv_model.h"
 #include "tv_real.h"
 
@@ -113,6 +114,7 @@ typedef struct {
 typedef struct {
     tvm_params_t model;   /**< estimator model parameters */
     ekf_config_t ekf;     /**< estimator configuration (set-up, Q, R, ...) */
+    nism_config_t nism;   /**< consistency monitor (nis_monitor.h) */
     app_calib_t calib;
     app_limits_t limits;
     app_control_t control;
@@ -145,6 +147,8 @@ typedef struct {
     uint32_t faults;       /**< latched APP_FAULT_* mask */
     uint32_t missing_samples; /**< samples missing before this one (predicted across) */
     uint32_t degraded;     /**< APP_DEGRADED_* mask: what this step's correction had to do without */
+    uint32_t consistency;  /**< consistency-monitor flags raised now (NISM_FLAG(EKF_CH_*), nis_monitor.h):
+                                the model does not explain that channel's data */
 } app_output_t;
 
 /**
@@ -182,6 +186,7 @@ typedef struct {
     uint8_t have_last_angle;  /**< 1 once a plausible angle was seen */
     tv_real_t integ_V;        /**< PID integral state [V] */
     uint32_t n_estimator_resets; /**< times app_clear_faults() restarted the estimator */
+    nism_t nism;              /**< consistency monitor on the estimator's innovations */
 } app_t;
 
 /**

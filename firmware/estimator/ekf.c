@@ -144,6 +144,9 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->w_abs_max_rad_s = TV_R(500.0);
     cfg->phi_min_rad = TV_R(-1.0);
     cfg->phi_max_rad = TV_R(2.5);
+    cfg->contact_band_rad = EKF_DEFAULT_CONTACT_BAND_RAD;
+    cfg->qc_Nm2_s = EKF_DEFAULT_QC_NM2_S;
+    cfg->stop_learn_margin_rad = EKF_DEFAULT_STOP_LEARN_MARGIN_RAD;
 }
 
 void ekf_config_paper(ekf_config_t *cfg)
@@ -164,6 +167,9 @@ void ekf_config_paper(ekf_config_t *cfg)
     cfg->r[EKF_CH_CURRENT] = TV_R(1e-4);
     cfg->r[EKF_CH_VELOCITY] = TV_R(1.0);
     cfg->r[EKF_CH_ANGLE] = TV_R(1e-8);
+    cfg->contact_band_rad = TV_R(0.0);
+    cfg->qc_Nm2_s = TV_R(0.0);
+    cfg->stop_learn_margin_rad = TV_R(0.0);
 }
 
 int ekf_q_from_spectral(const tvm_params_t *p, tv_real_t qu_V2_s, tv_real_t qT_Nm2_s,
@@ -210,7 +216,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !all_finite(cfg->var_floor, TVM_NX) || !all_finite(cfg->var_ceil, TVM_NX) ||
         !TV_IS_FINITE(cfg->u_abs_max_V) || !TV_IS_FINITE(cfg->i_abs_max_A) ||
         !TV_IS_FINITE(cfg->w_abs_max_rad_s) || !TV_IS_FINITE(cfg->phi_min_rad) ||
-        !TV_IS_FINITE(cfg->phi_max_rad)) {
+        !TV_IS_FINITE(cfg->phi_max_rad) || !TV_IS_FINITE(cfg->contact_band_rad) || !TV_IS_FINITE(cfg->qc_Nm2_s) ||
+        !TV_IS_FINITE(cfg->stop_learn_margin_rad)) {
         return TV_ERR_NONFINITE;
     }
     if (cfg->setup != EKF_SETUP_CURRENT_ANGLE && cfg->setup != EKF_SETUP_PAPER_3MEAS) {
@@ -227,7 +234,9 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         }
     }
     if (!(cfg->u_abs_max_V > TV_R(0.0)) || !(cfg->i_abs_max_A > TV_R(0.0)) ||
-        !(cfg->w_abs_max_rad_s > TV_R(0.0)) || !(cfg->phi_max_rad > cfg->phi_min_rad)) {
+        !(cfg->w_abs_max_rad_s > TV_R(0.0)) || !(cfg->phi_max_rad > cfg->phi_min_rad) ||
+        cfg->contact_band_rad < TV_R(0.0) || cfg->contact_band_rad > TV_R(0.5) || cfg->qc_Nm2_s < TV_R(0.0) ||
+        cfg->stop_learn_margin_rad < TV_R(0.0) || cfg->stop_learn_margin_rad > TV_R(0.5)) {
         return TV_ERR_CONFIG;
     }
     if (!is_symmetric(&cfg->P0[0][0]) || !principal_minors_ok(&cfg->P0[0][0], 1) ||
@@ -250,18 +259,18 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     }
     memcpy(ekf->x, cfg->x0, sizeof ekf->x);
     memcpy(ekf->P, cfg->P0, sizeof(mat3_t));
+    /* the contact noise: a torque noise of density qc on the plate, nothing on the armature */
+    (void)ekf_q_from_spectral(params, TV_R(0.0), cfg->qc_Nm2_s, ekf->Qc);
     return TV_OK;
 }
 
-int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX])
+/* P = F P F^T + Q (+ Qc when contact), bounds, sanity; see ekf_propagate(). */
+static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], int contact)
 {
     mat3_t FP;
     mat3_t Pn;
     int a;
     int b;
-    if (ekf == NULL || x_pred == NULL || F == NULL) {
-        return TV_ERR_NULL;
-    }
     /* FP = F P */
     TV_UNROLL3
     for (a = 0; a < TVM_NX; ++a) {
@@ -276,6 +285,9 @@ int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX
         TV_UNROLL3
         for (b = a; b < TVM_NX; ++b) {
             Pn[a][b] = FP[a][0] * F[b][0] + FP[a][1] * F[b][1] + FP[a][2] * F[b][2] + ekf->cfg.Q[a][b];
+            if (contact) {
+                Pn[a][b] += ekf->Qc[a][b];
+            }
             Pn[b][a] = Pn[a][b];
         }
     }
@@ -287,7 +299,18 @@ int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX
     memcpy(ekf->x, x_pred, sizeof ekf->x);
     memcpy(ekf->P, Pn, sizeof(mat3_t));
     ++ekf->n_predict;
+    if (contact) {
+        ++ekf->n_contact;
+    }
     return TV_OK;
+}
+
+int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX])
+{
+    if (ekf == NULL || x_pred == NULL || F == NULL) {
+        return TV_ERR_NULL;
+    }
+    return propagate(ekf, x_pred, F, 0);
 }
 
 int ekf_predict(ekf_t *ekf, tv_real_t u_V)
@@ -306,7 +329,13 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
         return TV_ERR_RANGE;
     }
     tvm_step(&ekf->model, ekf->x, u_V, xn, F);
-    return ekf_propagate(ekf, xn, F);
+    {
+        /* in the contact band of a stop (either side) the contact law is uncertain */
+        const tv_real_t band = ekf->cfg.contact_band_rad;
+        const int contact = band > TV_R(0.0) && (xn[TVM_PHI] < ekf->model.p.phi_closed_rad + band ||
+                                                 xn[TVM_PHI] > ekf->model.p.phi_open_rad - band);
+        return propagate(ekf, xn, F, contact);
+    }
 }
 
 /* Validate one measurement channel against its limits. */
@@ -451,6 +480,20 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     if (res.n_used > 0u) {
         ++ekf->n_correct;
     }
+    if (res.used[EKF_CH_ANGLE] && ekf->cfg.stop_learn_margin_rad > TV_R(0.0)) {
+        /* stops learned outward: the plate was seen beyond a stop, so that stop is at least
+         * there (monotone: phi_closed only falls, phi_open only rises, so the model's ordering
+         * phi_closed < 0 < phi_open holds); bounded by the angle measurement limits */
+        const tv_real_t m = ekf->cfg.stop_learn_margin_rad;
+        tvm_params_t *p = &ekf->model.p;
+        if (x[TVM_PHI] - m > p->phi_open_rad && x[TVM_PHI] - m <= ekf->cfg.phi_max_rad) {
+            p->phi_open_rad = x[TVM_PHI] - m;
+            ++ekf->n_stop_moves;
+        } else if (x[TVM_PHI] + m < p->phi_closed_rad && x[TVM_PHI] + m >= ekf->cfg.phi_min_rad) {
+            p->phi_closed_rad = x[TVM_PHI] + m;
+            ++ekf->n_stop_moves;
+        }
+    }
     if (out != NULL) {
         *out = res;
     }
@@ -478,8 +521,16 @@ void ekf_covariance(const ekf_t *ekf, tv_real_t P[TVM_NX][TVM_NX])
     memcpy(P, ekf->P, sizeof ekf->P);
 }
 
+void ekf_stops(const ekf_t *ekf, tv_real_t *phi_closed_rad, tv_real_t *phi_open_rad)
+{
+    *phi_closed_rad = ekf->model.p.phi_closed_rad;
+    *phi_open_rad = ekf->model.p.phi_open_rad;
+}
+
 void ekf_health(const ekf_t *ekf, ekf_health_t *h)
 {
+    h->n_contact = ekf->n_contact;
+    h->n_stop_moves = ekf->n_stop_moves;
     h->n_predict = ekf->n_predict;
     h->n_correct = ekf->n_correct;
     h->n_rejected = ekf->n_rejected;

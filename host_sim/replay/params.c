@@ -18,7 +18,7 @@
 enum {
     K_R = 0, K_L, K_KE, K_KT, K_J, K_N, K_MC, K_M0, K_C, K_KV, K_MS, K_WS, K_PHI_CLOSED, K_PHI_OPEN, K_K_STOP,
     K_D_STOP, K_E_PHI, K_E_W, K_SUBSTEPS,
-    K_QU, K_QT, K_R_CURRENT, K_R_VELOCITY, K_R_ANGLE,
+    K_QU, K_QT, K_R_CURRENT, K_R_VELOCITY, K_R_ANGLE, K_CONTACT_BAND, K_QC, K_STOP_LEARN,
     K_CAL_CUR_OFF, K_CAL_CUR_GAIN, K_CAL_TPS1_ZERO, K_CAL_TPS1_GAIN, K_CAL_TPS2_ZERO, K_CAL_TPS2_GAIN, K_CAL_SUPPLY,
     K_LIM_CUR_MIN, K_LIM_CUR_MAX, K_LIM_TPS_MIN, K_LIM_TPS_MAX, K_LIM_DISAGREE, K_LIM_SUP_MIN, K_LIM_SUP_MAX,
     K_LIM_DEBOUNCE, K_LIM_MAX_GAP,
@@ -369,6 +369,9 @@ static tv_real_t *real_field(app_config_t *c, int k)
     case K_R_CURRENT: return &c->ekf.r[EKF_CH_CURRENT];
     case K_R_VELOCITY: return &c->ekf.r[EKF_CH_VELOCITY];
     case K_R_ANGLE: return &c->ekf.r[EKF_CH_ANGLE];
+    case K_CONTACT_BAND: return &c->ekf.contact_band_rad;
+    case K_QC: return &c->ekf.qc_Nm2_s;
+    case K_STOP_LEARN: return &c->ekf.stop_learn_margin_rad;
     case K_CAL_CUR_OFF: return &c->calib.current_offset_counts;
     case K_CAL_CUR_GAIN: return &c->calib.current_A_per_count;
     case K_CAL_TPS1_ZERO: return &c->calib.tps1_counts_at_zero;

@@ -35,6 +35,8 @@ static void sim_result_clear(sim_result_t *res)
     res->nees_avg = res->nees_lo = res->nees_hi = SIM_NAN;
     res->nis_avg = res->nis_lo = res->nis_hi = res->nis_dof_avg = SIM_NAN;
     res->first_fault_t_s = SIM_NAN;
+    res->nees_window_max = SIM_NAN;
+    res->stops_learned[0] = res->stops_learned[1] = SIM_NAN;
     sim_tracking_init(&res->tracking);
 }
 
@@ -99,6 +101,9 @@ typedef struct {
     double nis_dof_sum;
     double nis_ch_sum[EKF_NCH];
     uint32_t nis_ch_n[EKF_NCH];
+    double nees_ring[SIM_NEES_WINDOW]; /**< last scored NEES values (window average) */
+    double nees_ring_sum;
+    uint32_t nees_ring_n;
 } sim_side_t;
 
 static int sim_ekf_row_is_used(const ekf_innov_t *in, int ch)
@@ -349,6 +354,9 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         if (out.ekf_status != TV_OK) {
             ++res->ekf_rejections;
         }
+        if (out.consistency != 0u) {
+            ++res->consistency_flag_ticks;
+        }
         res->missing_samples += out.missing_samples;
         if (scored) {
             int e;
@@ -371,8 +379,21 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
             }
             ++res->n_scored;
             if (sim_finite(row.nees)) {
+                const uint32_t slot = side->nees_ring_n % SIM_NEES_WINDOW;
                 side->nees_sum += row.nees;
                 ++res->nees_n;
+                if (side->nees_ring_n >= SIM_NEES_WINDOW) {
+                    side->nees_ring_sum -= side->nees_ring[slot];
+                }
+                side->nees_ring[slot] = row.nees;
+                side->nees_ring_sum += row.nees;
+                ++side->nees_ring_n;
+                if (side->nees_ring_n >= SIM_NEES_WINDOW) {
+                    const double w = side->nees_ring_sum / (double)SIM_NEES_WINDOW;
+                    if (!sim_finite(res->nees_window_max) || w > res->nees_window_max) {
+                        res->nees_window_max = w;
+                    }
+                }
             }
             if (out.innov.n_used > 0u && sim_finite(row.nis)) {
                 side->nis_sum += row.nis;
@@ -440,6 +461,14 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->nis_hi = sim_chi2_quantile(SIM_BAND_P_HI, side->nis_dof_sum) / n;
     }
     res->faults = app->faults;
+    res->consistency_episodes = app->nism.episodes;
+    {
+        tv_real_t lo;
+        tv_real_t hi;
+        ekf_stops(&app->ekf, &lo, &hi);
+        res->stops_learned[0] = (double)lo;
+        res->stops_learned[1] = (double)hi;
+    }
     res->paper_printed_resets = side->printed.n_resets;
     res->paper_eq12_resets = side->eq12.n_resets;
     res->paper_eq12x_resets = side->eq12x.n_resets;
