@@ -1,0 +1,507 @@
+/**
+ * @file population_main.c
+ * @brief population: the estimator over a population of throttles (plant_draw.h) and the
+ *        scenario mix, scored against differentiating the angle; prints a table per scenario
+ *        and writes the summary JSON (see usage()). tools/run_population.sh runs it.
+ *
+ * UNITS. Unit IDs below POP_FIRST_EVAL_UNIT are the TRAINING set (tools/tune_noise.py tunes
+ * on them); the benchmark scores the EVALUATION set, IDs from POP_FIRST_EVAL_UNIT on. Every
+ * third unit (ID % 3 == 2) is of class B, the others of class A. Plant noise seeds of the
+ * evaluation are 1 .. S; training uses 1001 .. (disjoint as well).
+ *
+ * SECTIONS. stops_varied: plant_draw(PLANT_SPREAD_STOPS) (stops, contact, sensor front end
+ * varied; motor, friction and springs nominal in plant and filter alike); all_varied:
+ * PLANT_SPREAD_ALL (everything varied, the filter on its class's nominal model).
+ *
+ * PER RUN: velocity ratio = RMSE of the differentiated angle / RMSE of the filter (velocity,
+ * scored ticks); NEES run average (3 dof); largest 100 ms NEES average; whether the
+ * consistency monitor raised a flag.
+ */
+#define _POSIX_C_SOURCE 200809L
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "cli.h"
+#include "params.h"
+#include "plant_draw.h"
+#include "sim.h"
+#include "sim_unit.h"
+#include "tv_status.h"
+
+/** First unit ID of the evaluation set (IDs below it are the training set). */
+#define POP_FIRST_EVAL_UNIT 1000u
+/** Largest number of plants per section. */
+#define POP_PLANTS_MAX 1000u
+/** Largest number of seeds. */
+#define POP_SEEDS_MAX 100u
+/** Largest number of runs per section (plants x scenarios x seeds). */
+#define POP_RUNS_MAX (POP_PLANTS_MAX * (unsigned)SIM_SCN_COUNT * 10u)
+
+static const char *s_prog = "population";
+
+#define usage_error(...) cli_usage_error(s_prog, __VA_ARGS__)
+
+/** One scored run. */
+typedef struct {
+    uint64_t unit;
+    uint64_t seed;
+    sim_scenario_t scn;
+    double ratio;       /**< differentiation RMSE / filter RMSE (velocity) */
+    double rmse_filter; /**< [rad/s] */
+    double rmse_diff;   /**< [rad/s] */
+    double nees_avg;
+    double nees_win_max;
+    int flagged;        /**< consistency monitor raised a flag */
+    int faults;         /**< latched faults at the end */
+} pop_run_t;
+
+static pop_run_t s_runs[2][POP_RUNS_MAX];
+static params_t s_params;
+
+static void usage(FILE *f)
+{
+    int k;
+    fprintf(f,
+            "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--scenarios A,B,...] [--duration S]\n"
+            "          [--sections stops,all] [--params FILE] [--json PATH] [--runs-csv PATH] [--quick] [--help]\n"
+            "\n"
+            "Runs the application's estimator (double build) on a population of throttles\n"
+            "(host_sim/plant/plant_draw.h) over a scenario mix and scores its velocity against\n"
+            "differentiating the measured angle, and its consistency (NEES, consistency monitor).\n"
+            "\n"
+            "  --plants N        units per section, 1..%u (default 30; every third is class b)\n"
+            "  --seeds S         plant noise seeds 1..S per unit and scenario, 1..%u (default 3)\n"
+            "  --first-unit ID   first unit ID (default %u: the evaluation set; IDs below it are\n"
+            "                    the training set of tools/tune_noise.py)\n"
+            "  --scenarios LIST  comma-separated (default: all but stuck_release):",
+            s_prog, POP_PLANTS_MAX, POP_SEEDS_MAX, POP_FIRST_EVAL_UNIT);
+    for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
+        fprintf(f, " %s", sim_scenario_name((sim_scenario_t)k));
+    }
+    fprintf(f,
+            "\n"
+            "  --duration S      length of every run [s] (default: each scenario's own)\n"
+            "  --sections LIST   stops, all or stops,all (default both)\n"
+            "  --params FILE     filter parameters applied on top of each unit's configuration\n"
+            "                    (e.g. ekf.contact_band_rad; host_sim/replay/params.h)\n"
+            "  --json PATH       summary (default out/population/summary.json)\n"
+            "  --runs-csv PATH   also one line per run\n"
+            "  --quick           6 plants, 1 seed (a few seconds)\n"
+            "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n");
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a;
+    const double y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/** Summary of a set of runs. */
+typedef struct {
+    unsigned runs;
+    double worst_ratio;
+    double median_ratio;
+    double nees_min;
+    double nees_max;
+    double nees_win_max;
+    unsigned flagged;
+    unsigned faulted;
+} pop_sum_t;
+
+static void summarise(const pop_run_t *r, unsigned n, int scn, pop_sum_t *s)
+{
+    static double ratios[POP_RUNS_MAX];
+    unsigned k;
+    unsigned m = 0;
+    memset(s, 0, sizeof *s);
+    s->worst_ratio = s->median_ratio = s->nees_min = s->nees_max = s->nees_win_max = (double)NAN;
+    for (k = 0; k < n; ++k) {
+        if (scn >= 0 && (int)r[k].scn != scn) {
+            continue;
+        }
+        ratios[m++] = isfinite(r[k].ratio) ? r[k].ratio : 0.0;
+        if (!(r[k].nees_avg >= s->nees_min)) {
+            s->nees_min = isfinite(r[k].nees_avg) ? r[k].nees_avg : (double)INFINITY;
+        }
+        if (!(r[k].nees_avg <= s->nees_max)) {
+            s->nees_max = isfinite(r[k].nees_avg) ? r[k].nees_avg : (double)INFINITY;
+        }
+        if (!(r[k].nees_win_max <= s->nees_win_max)) {
+            s->nees_win_max = isfinite(r[k].nees_win_max) ? r[k].nees_win_max : (double)INFINITY;
+        }
+        s->flagged += r[k].flagged ? 1u : 0u;
+        s->faulted += r[k].faults ? 1u : 0u;
+    }
+    s->runs = m;
+    if (m > 0u) {
+        qsort(ratios, m, sizeof ratios[0], cmp_double);
+        s->worst_ratio = ratios[0];
+        s->median_ratio = (m % 2u) ? ratios[m / 2u] : 0.5 * (ratios[m / 2u - 1u] + ratios[m / 2u]);
+    }
+}
+
+static void json_num(FILE *f, double v)
+{
+    if (isfinite(v)) {
+        fprintf(f, "%.6g", v);
+    } else {
+        fputs("null", f);
+    }
+}
+
+static void json_sum(FILE *f, const pop_sum_t *s, unsigned plants)
+{
+    fprintf(f, "{\"runs\": %u, \"plants\": %u, \"worst_velocity_ratio\": ", s->runs, plants);
+    json_num(f, s->worst_ratio);
+    fputs(", \"median_velocity_ratio\": ", f);
+    json_num(f, s->median_ratio);
+    fputs(", \"nees_run_avg_min\": ", f);
+    json_num(f, s->nees_min);
+    fputs(", \"nees_run_avg_max\": ", f);
+    json_num(f, s->nees_max);
+    fputs(", \"nees_window_max\": ", f);
+    json_num(f, s->nees_win_max);
+    fprintf(f, ", \"consistency_flags_healthy\": %u, \"runs_with_faults\": %u}", s->flagged, s->faulted);
+}
+
+static void print_sum(FILE *f, const char *label, const pop_sum_t *s)
+{
+    fprintf(f, "  %-14s %5u  %8.2f  %8.2f  %9.3g  %9.3g  %9.3g  %5u  %5u\n", label, s->runs, s->worst_ratio,
+            s->median_ratio, s->nees_min, s->nees_max, s->nees_win_max, s->flagged, s->faulted);
+}
+
+/* mkdir -p of the directory part of path; 0 on success. */
+static int make_parent_dirs(const char *path)
+{
+    char buf[4096];
+    size_t n = strlen(path);
+    size_t k;
+    if (n >= sizeof buf) {
+        errno = ENAMETOOLONG;
+        return -1;
+    }
+    memcpy(buf, path, n + 1u);
+    for (k = 1; k < n; ++k) {
+        if (buf[k] == '/') {
+            buf[k] = '\0';
+            if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+                return -1;
+            }
+            buf[k] = '/';
+        }
+    }
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    unsigned long long plants = 30u;
+    unsigned long long seeds = 3u;
+    unsigned long long first_unit = POP_FIRST_EVAL_UNIT;
+    double duration_s = 0.0;
+    int use_scn[SIM_SCN_COUNT];
+    int sections[2] = {1, 1};
+    const char *params_path = NULL;
+    const char *json_path = "out/population/summary.json";
+    const char *runs_csv = NULL;
+    unsigned n_runs[2] = {0u, 0u};
+    double nominal_rmse = (double)NAN;
+    FILE *f;
+    FILE *csv = NULL;
+    int k;
+    int sec;
+    static const char *const takes_value[] = {"--plants", "--seeds", "--first-unit", "--scenarios", "--duration",
+                                              "--sections", "--params", "--json", "--runs-csv", NULL};
+
+    for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
+        use_scn[k] = k != (int)SIM_SCN_STUCK_RELEASE;
+    }
+    for (k = 1; k < argc; ++k) {
+        const char *a = argv[k];
+        const char *v = k + 1 < argc ? argv[k + 1] : NULL;
+        unsigned long long u = 0u;
+        if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+            usage(stdout);
+            return 0;
+        }
+        if (strcmp(a, "--quick") == 0) {
+            plants = 6u;
+            seeds = 1u;
+            continue;
+        }
+        if (cli_option_value(s_prog, a, v, takes_value) != 0 || v == NULL) {
+            return CLI_EXIT_USAGE;
+        }
+        ++k;
+        if (strcmp(a, "--plants") == 0 || strcmp(a, "--seeds") == 0 || strcmp(a, "--first-unit") == 0) {
+            if (cli_parse_u64(v, &u) != 0) {
+                return usage_error("option %s: '%s' is not an unsigned integer", a, v);
+            }
+            if (strcmp(a, "--plants") == 0) {
+                if (u < 1u || u > POP_PLANTS_MAX) {
+                    return usage_error("option %s: %s is out of range (1 .. %u)", a, v, POP_PLANTS_MAX);
+                }
+                plants = u;
+            } else if (strcmp(a, "--seeds") == 0) {
+                if (u < 1u || u > POP_SEEDS_MAX) {
+                    return usage_error("option %s: %s is out of range (1 .. %u)", a, v, POP_SEEDS_MAX);
+                }
+                seeds = u;
+            } else {
+                first_unit = u;
+            }
+        } else if (strcmp(a, "--duration") == 0) {
+            if (cli_parse_double(v, &duration_s) != 0 || !(duration_s > SIM_TRANSIENT_S) ||
+                duration_s > SIM_DURATION_MAX_S) {
+                return usage_error("option %s: '%s' is not a duration in (%g, %g] s", a, v, SIM_TRANSIENT_S,
+                                   SIM_DURATION_MAX_S);
+            }
+        } else if (strcmp(a, "--scenarios") == 0) {
+            char buf[512];
+            char *tok;
+            char *save = NULL;
+            if (strlen(v) >= sizeof buf) {
+                return usage_error("option %s: list too long", a);
+            }
+            strcpy(buf, v);
+            memset(use_scn, 0, sizeof use_scn);
+            for (tok = strtok_r(buf, ",", &save); tok != NULL; tok = strtok_r(NULL, ",", &save)) {
+                sim_scenario_t s;
+                if (sim_scenario_from_name(tok, &s) != TV_OK) {
+                    return usage_error("option %s: unknown scenario '%s'", a, tok);
+                }
+                use_scn[s] = 1;
+            }
+        } else if (strcmp(a, "--sections") == 0) {
+            if (strcmp(v, "stops") == 0) {
+                sections[0] = 1;
+                sections[1] = 0;
+            } else if (strcmp(v, "all") == 0) {
+                sections[0] = 0;
+                sections[1] = 1;
+            } else if (strcmp(v, "stops,all") == 0 || strcmp(v, "all,stops") == 0) {
+                sections[0] = sections[1] = 1;
+            } else {
+                return usage_error("option %s: '%s' is not stops, all or stops,all", a, v);
+            }
+        } else if (strcmp(a, "--params") == 0) {
+            params_path = v;
+        } else if (strcmp(a, "--json") == 0) {
+            json_path = v;
+        } else {
+            runs_csv = v;
+        }
+    }
+    if (params_path != NULL) {
+        char err[PARAMS_MSG_MAX];
+        int rc;
+        params_init(&s_params, params_path);
+        rc = params_load(&s_params, params_path, err, sizeof err);
+        if (rc != TV_OK) {
+            fprintf(stderr, "%s: %s\n", s_prog, err);
+            return rc == TV_ERR_IO ? 1 : 3;
+        }
+    }
+    if (runs_csv != NULL) {
+        csv = fopen(runs_csv, "w");
+        if (csv == NULL) {
+            fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, runs_csv, strerror(errno));
+            return 1;
+        }
+        fprintf(csv, "section,unit,class,scenario,seed,rmse_filter_rad_s,rmse_diff_rad_s,ratio,nees_avg,nees_window_max,"
+                     "consistency_flagged,faults\n");
+    }
+
+    /* the nominal unit of class A, the paper's experiment, seed 1, with the same --params */
+    {
+        static app_config_t ac;
+        sim_options_t opt;
+        sim_result_t r;
+        sim_options_default(&opt);
+        app_config_default(&ac);
+        if (params_path != NULL) {
+            char err[PARAMS_MSG_MAX];
+            if (params_apply(&s_params, &ac, err, sizeof err) != TV_OK) {
+                fprintf(stderr, "%s: %s\n", s_prog, err);
+                return 3;
+            }
+        }
+        opt.app = &ac;
+        if (sim_run(&opt, &r) != TV_OK) {
+            fprintf(stderr, "%s: the nominal run failed\n", s_prog);
+            return 1;
+        }
+        nominal_rmse = r.rmse[SIM_EST_APP][TVM_W];
+    }
+
+    for (sec = 0; sec < 2; ++sec) {
+        const plant_spread_t spread = sec == 0 ? PLANT_SPREAD_STOPS : PLANT_SPREAD_ALL;
+        unsigned long long p;
+        if (!sections[sec]) {
+            continue;
+        }
+        for (p = 0; p < plants; ++p) {
+            const uint64_t unit = (uint64_t)(first_unit + p);
+            const plant_class_t cls = unit % 3u == 2u ? PLANT_CLASS_B : PLANT_CLASS_A;
+            static plant_config_t pc;
+            static app_config_t ac;
+            int rc = plant_draw(cls, spread, unit, &pc);
+            if (rc == TV_OK) {
+                rc = sim_app_config_for_unit(cls, &pc, &ac);
+            }
+            if (rc == TV_OK && params_path != NULL) {
+                char err[PARAMS_MSG_MAX];
+                rc = params_apply(&s_params, &ac, err, sizeof err);
+                if (rc != TV_OK) {
+                    fprintf(stderr, "%s: %s\n", s_prog, err);
+                    return 3;
+                }
+            }
+            if (rc != TV_OK) {
+                fprintf(stderr, "%s: unit %llu: %s\n", s_prog, (unsigned long long)unit, tv_status_str(rc));
+                return 1;
+            }
+            for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
+                unsigned long long s;
+                if (!use_scn[k]) {
+                    continue;
+                }
+                for (s = 1; s <= seeds; ++s) {
+                    sim_options_t opt;
+                    sim_result_t r;
+                    pop_run_t *run;
+                    sim_options_default(&opt);
+                    opt.scenario = (sim_scenario_t)k;
+                    opt.seed = (uint64_t)s;
+                    opt.duration_s = duration_s;
+                    opt.plant = &pc;
+                    opt.app = &ac;
+                    rc = sim_run(&opt, &r);
+                    if (rc != TV_OK) {
+                        fprintf(stderr, "%s: unit %llu, %s, seed %llu: %s\n", s_prog, (unsigned long long)unit,
+                                sim_scenario_name(opt.scenario), s, tv_status_str(rc));
+                        return 1;
+                    }
+                    if (n_runs[sec] >= POP_RUNS_MAX) {
+                        fprintf(stderr, "%s: more than %u runs per section\n", s_prog, POP_RUNS_MAX);
+                        return 2;
+                    }
+                    run = &s_runs[sec][n_runs[sec]++];
+                    run->unit = unit;
+                    run->seed = (uint64_t)s;
+                    run->scn = opt.scenario;
+                    run->rmse_filter = r.rmse[SIM_EST_APP][TVM_W];
+                    run->rmse_diff = r.rmse[SIM_EST_MEASURED][TVM_W];
+                    run->ratio = run->rmse_diff / run->rmse_filter;
+                    run->nees_avg = r.nees_avg;
+                    run->nees_win_max = r.nees_window_max;
+                    run->flagged = r.consistency_episodes > 0u;
+                    run->faults = r.faults != 0u;
+                    if (csv != NULL) {
+                        fprintf(csv, "%s,%llu,%s,%s,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d\n", sec == 0 ? "stops_varied" : "all_varied",
+                                (unsigned long long)unit, plant_class_name(cls), sim_scenario_name(opt.scenario), s,
+                                run->rmse_filter, run->rmse_diff, run->ratio, run->nees_avg, run->nees_win_max, run->flagged,
+                                (int)r.faults);
+                    }
+                }
+            }
+            fprintf(stderr, "\r%s: %s %llu/%llu units", s_prog, sec == 0 ? "stops_varied" : "all_varied", p + 1u, plants);
+        }
+        fputc('\n', stderr);
+    }
+    if (csv != NULL && fclose(csv) != 0) {
+        fprintf(stderr, "%s: write error on %s\n", s_prog, runs_csv);
+        return 1;
+    }
+
+    /* tables */
+    printf("nominal unit (class a), paper_sine, seed 1: filter velocity RMSE %.4f rad/s\n", nominal_rmse);
+    for (sec = 0; sec < 2; ++sec) {
+        pop_sum_t s;
+        if (!sections[sec]) {
+            continue;
+        }
+        printf("\n%s: units %llu..%llu, seeds 1..%llu (ratio = differentiation RMSE / filter RMSE, velocity)\n",
+               sec == 0 ? "stops_varied" : "all_varied", first_unit, first_unit + plants - 1u, seeds);
+        printf("  %-14s %5s  %8s  %8s  %9s  %9s  %9s  %5s  %5s\n", "scenario", "runs", "worst", "median", "NEES min",
+               "NEES max", "NEES 0.1s", "flag", "fault");
+        for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
+            if (use_scn[k]) {
+                summarise(s_runs[sec], n_runs[sec], k, &s);
+                print_sum(stdout, sim_scenario_name((sim_scenario_t)k), &s);
+            }
+        }
+        summarise(s_runs[sec], n_runs[sec], -1, &s);
+        print_sum(stdout, "ALL", &s);
+    }
+
+    /* JSON */
+    if (make_parent_dirs(json_path) != 0 || (f = fopen(json_path, "w")) == NULL) {
+        fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, json_path, strerror(errno));
+        return 1;
+    }
+    fprintf(f, "{\n  \"nominal_paper_sine_velocity_rmse_rad_s\": ");
+    json_num(f, nominal_rmse);
+    fprintf(f, ",\n  \"units\": [%llu, %llu],\n  \"evaluation_set\": %s,\n  \"seeds\": %llu,\n  \"duration_s\": ", first_unit,
+            first_unit + plants - 1u, first_unit >= POP_FIRST_EVAL_UNIT ? "true" : "false", seeds);
+    json_num(f, duration_s > 0.0 ? duration_s : (double)NAN);
+    fprintf(f, ",\n  \"params\": ");
+    if (params_path != NULL) {
+        fputc('"', f);
+        for (k = 0; params_path[k] != '\0'; ++k) {
+            if (params_path[k] == '"' || params_path[k] == '\\') {
+                fputc('\\', f);
+            }
+            fputc(params_path[k], f);
+        }
+        fputc('"', f);
+    } else {
+        fputs("null", f);
+    }
+    fputs(",\n  \"scenarios\": [", f);
+    {
+        int first = 1;
+        for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
+            if (use_scn[k]) {
+                fprintf(f, "%s\"%s\"", first ? "" : ", ", sim_scenario_name((sim_scenario_t)k));
+                first = 0;
+            }
+        }
+    }
+    fputs("]", f);
+    for (sec = 0; sec < 2; ++sec) {
+        pop_sum_t s;
+        if (!sections[sec]) {
+            continue;
+        }
+        fprintf(f, ",\n  \"%s\": ", sec == 0 ? "stops_varied" : "all_varied");
+        summarise(s_runs[sec], n_runs[sec], -1, &s);
+        json_sum(f, &s, (unsigned)plants);
+        fprintf(f, ",\n  \"%s_per_scenario\": {", sec == 0 ? "stops_varied" : "all_varied");
+        {
+            int first = 1;
+            for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
+                if (use_scn[k]) {
+                    summarise(s_runs[sec], n_runs[sec], k, &s);
+                    fprintf(f, "%s\n    \"%s\": ", first ? "" : ",", sim_scenario_name((sim_scenario_t)k));
+                    json_sum(f, &s, (unsigned)plants);
+                    first = 0;
+                }
+            }
+        }
+        fputs("\n  }", f);
+    }
+    fputs("\n}\n", f);
+    if (fclose(f) != 0) {
+        fprintf(stderr, "%s: write error on %s\n", s_prog, json_path);
+        return 1;
+    }
+    fprintf(stderr, "wrote %s\n", json_path);
+    return 0;
+}
