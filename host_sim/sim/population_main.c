@@ -266,10 +266,11 @@ int main(int argc, char **argv)
             char buf[512];
             char *tok;
             char *save = NULL;
-            if (strlen(v) >= sizeof buf) {
+            const size_t len = strlen(v);
+            if (len >= sizeof buf) {
                 return usage_error("option %s: list too long", a);
             }
-            strcpy(buf, v);
+            memcpy(buf, v, len + 1u);
             memset(use_scn, 0, sizeof use_scn);
             for (tok = strtok_r(buf, ",", &save); tok != NULL; tok = strtok_r(NULL, ",", &save)) {
                 sim_scenario_t s;
