@@ -26,19 +26,30 @@ const char *plant_spread_name(plant_spread_t s)
     return (unsigned)s < (unsigned)PLANT_SPREAD_COUNT ? s_spread_names[s] : "?";
 }
 
+/* Index of name in names[0..n), or -1. */
+static int name_index(const char *const *names, int n, const char *name)
+{
+    int k;
+    for (k = 0; k < n; ++k) {
+        if (strcmp(name, names[k]) == 0) {
+            return k;
+        }
+    }
+    return -1;
+}
+
 int plant_class_from_name(const char *name, plant_class_t *out)
 {
     int k;
     if (name == NULL || out == NULL) {
         return TV_ERR_NULL;
     }
-    for (k = 0; k < (int)PLANT_CLASS_COUNT; ++k) {
-        if (strcmp(name, s_class_names[k]) == 0) {
-            *out = (plant_class_t)k;
-            return TV_OK;
-        }
+    k = name_index(s_class_names, (int)PLANT_CLASS_COUNT, name);
+    if (k < 0) {
+        return TV_ERR_RANGE;
     }
-    return TV_ERR_RANGE;
+    *out = (plant_class_t)k;
+    return TV_OK;
 }
 
 int plant_spread_from_name(const char *name, plant_spread_t *out)
@@ -47,13 +58,12 @@ int plant_spread_from_name(const char *name, plant_spread_t *out)
     if (name == NULL || out == NULL) {
         return TV_ERR_NULL;
     }
-    for (k = 0; k < (int)PLANT_SPREAD_COUNT; ++k) {
-        if (strcmp(name, s_spread_names[k]) == 0) {
-            *out = (plant_spread_t)k;
-            return TV_OK;
-        }
+    k = name_index(s_spread_names, (int)PLANT_SPREAD_COUNT, name);
+    if (k < 0) {
+        return TV_ERR_RANGE;
     }
-    return TV_ERR_RANGE;
+    *out = (plant_spread_t)k;
+    return TV_OK;
 }
 
 int plant_class_nominal(plant_class_t c, plant_config_t *cfg)

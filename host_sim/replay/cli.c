@@ -153,3 +153,32 @@ int cli_same_file(const char *in_path, const char *out_path)
     }
     return si.st_dev == so.st_dev && si.st_ino == so.st_ino;
 }
+
+int cli_make_dirs(const char *dir)
+{
+    char buf[CLI_PATH_MAX];
+    size_t n = strlen(dir);
+    size_t k;
+    struct stat st;
+    if (n == 0u || n >= sizeof buf) {
+        errno = n == 0u ? ENOENT : ENAMETOOLONG;
+        return -1;
+    }
+    memcpy(buf, dir, n + 1u);
+    for (k = 1; k <= n; ++k) {
+        if (buf[k] == '/' || buf[k] == '\0') {
+            const char c = buf[k];
+            buf[k] = '\0';
+            if (stat(buf, &st) != 0) {
+                if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
+                    return -1;
+                }
+            } else if (!S_ISDIR(st.st_mode)) {
+                errno = ENOTDIR; /* stat succeeded: errno would still say "Success" */
+                return -1;
+            }
+            buf[k] = c;
+        }
+    }
+    return 0;
+}

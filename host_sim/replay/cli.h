@@ -19,6 +19,15 @@ extern "C" {
 /** Parse a finite decimal double (the whole string); 0 on success, -1 otherwise. */
 int cli_parse_double(const char *s, double *out);
 
+/** Longest directory path cli_make_dirs() builds [chars]. */
+#define CLI_PATH_MAX 4096
+
+/**
+ * mkdir -p: create dir and its missing parents.
+ * @return 0; -1 with errno set (ENOTDIR when a part exists and is not a directory).
+ */
+int cli_make_dirs(const char *dir);
+
 /**
  * Parse an unsigned decimal integer (digits only, no sign, no 0x, no octal meaning of a leading
  * 0); 0 on success, -1 not a number, -2 too large for unsigned long long.

@@ -10,7 +10,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <sys/types.h>
 #include <unistd.h>
 
@@ -125,36 +124,6 @@ static void usage(FILE *f)
             "Outputs: DIR/<scenario>.csv, DIR/<scenario>_metrics.txt, DIR/<scenario>_metrics.json.\n"
             "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n",
             SIM_DURATION_MAX_S, SIM_MC_SEEDS_MAX, (double)EKF_DEFAULT_QU_V2_S, (double)EKF_DEFAULT_QT_NM2_S);
-}
-
-/* mkdir -p; 0 on success. */
-static int make_dirs(const char *dir)
-{
-    char buf[MAIN_PATH_MAX];
-    size_t n = strlen(dir);
-    size_t k;
-    struct stat st;
-    if (n == 0u || n >= sizeof buf) {
-        errno = n == 0u ? ENOENT : ENAMETOOLONG;
-        return -1;
-    }
-    memcpy(buf, dir, n + 1u);
-    for (k = 1; k <= n; ++k) {
-        if (buf[k] == '/' || buf[k] == '\0') {
-            const char c = buf[k];
-            buf[k] = '\0';
-            if (stat(buf, &st) != 0) {
-                if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
-                    return -1;
-                }
-            } else if (!S_ISDIR(st.st_mode)) {
-                errno = ENOTDIR; /* stat succeeded: errno would still say "Success" */
-                return -1;
-            }
-            buf[k] = c;
-        }
-    }
-    return 0;
 }
 
 static FILE *open_out(const char *dir, const char *scn, const char *suffix, char *path, size_t cap)
@@ -416,7 +385,7 @@ int main(int argc, char **argv)
     if (raw_path != NULL && mc > 0u) {
         return usage_error("--raw-log writes one run; it cannot be combined with --mc");
     }
-    if (make_dirs(out_dir) != 0) {
+    if (cli_make_dirs(out_dir) != 0) {
         fprintf(stderr, "%s: cannot create output directory %s: %s\n", s_prog, out_dir, strerror(errno));
         return MAIN_EXIT_FAIL;
     }

@@ -24,7 +24,6 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "cli.h"
 #include "params.h"
@@ -176,27 +175,22 @@ static void print_sum(FILE *f, const char *label, const pop_sum_t *s)
             s->median_ratio, s->nees_min, s->nees_max, s->nees_win_max, s->flagged, s->faulted);
 }
 
-/* mkdir -p of the directory part of path; 0 on success. */
+/* mkdir -p of the directory part of path; 0 on success (cli_make_dirs() does the work). */
 static int make_parent_dirs(const char *path)
 {
-    char buf[4096];
-    size_t n = strlen(path);
-    size_t k;
+    char buf[CLI_PATH_MAX];
+    const char *slash = strrchr(path, '/');
+    const size_t n = slash != NULL ? (size_t)(slash - path) : 0u;
+    if (n == 0u) {
+        return 0; /* the current directory, or a file at the root */
+    }
     if (n >= sizeof buf) {
         errno = ENAMETOOLONG;
         return -1;
     }
-    memcpy(buf, path, n + 1u);
-    for (k = 1; k < n; ++k) {
-        if (buf[k] == '/') {
-            buf[k] = '\0';
-            if (mkdir(buf, 0777) != 0 && errno != EEXIST) {
-                return -1;
-            }
-            buf[k] = '/';
-        }
-    }
-    return 0;
+    memcpy(buf, path, n);
+    buf[n] = '\0';
+    return cli_make_dirs(buf);
 }
 
 int main(int argc, char **argv)

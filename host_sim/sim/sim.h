@@ -197,7 +197,6 @@ typedef struct {
     double nees_window_max;          /**< largest average NEES over SIM_NEES_WINDOW consecutive scored ticks (NaN: too short) */
     uint32_t consistency_episodes;   /**< times the application's consistency monitor raised a flag (nis_monitor.h) */
     uint32_t consistency_flag_ticks; /**< ticks with a consistency flag raised */
-    double stops_learned[2];         /**< the application filter's stops at the end (closed, open) [rad] */
 } sim_result_t;
 
 /** Monte Carlo results (sim_monte_carlo()). */

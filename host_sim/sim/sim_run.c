@@ -36,7 +36,6 @@ static void sim_result_clear(sim_result_t *res)
     res->nis_avg = res->nis_lo = res->nis_hi = res->nis_dof_avg = SIM_NAN;
     res->first_fault_t_s = SIM_NAN;
     res->nees_window_max = SIM_NAN;
-    res->stops_learned[0] = res->stops_learned[1] = SIM_NAN;
     sim_tracking_init(&res->tracking);
 }
 
@@ -462,13 +461,6 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
     }
     res->faults = app->faults;
     res->consistency_episodes = app->nism.episodes;
-    {
-        tv_real_t lo;
-        tv_real_t hi;
-        ekf_stops(&app->ekf, &lo, &hi);
-        res->stops_learned[0] = (double)lo;
-        res->stops_learned[1] = (double)hi;
-    }
     res->paper_printed_resets = side->printed.n_resets;
     res->paper_eq12_resets = side->eq12.n_resets;
     res->paper_eq12x_resets = side->eq12x.n_resets;
