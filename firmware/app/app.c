@@ -46,6 +46,7 @@ void app_config_default(app_config_t *cfg)
     tvm_params_default(&cfg->model);
     ekf_config_default(&cfg->ekf, EKF_SETUP_CURRENT_ANGLE);
     nism_config_default(&cfg->nism);
+    sl_config_default(&cfg->stop_learn);
     app_calib_default(&cfg->calib, &cfg->model);
     /* Tracks span 0.1..0.9 of full scale over the travel; a stop penetration of a few mrad
      * stays far inside 2..98 %. Outside it the track is open or shorted. */
@@ -91,7 +92,7 @@ static int check_control(const app_control_t *c)
     if (!finite_all(v, sizeof v / sizeof v[0])) {
         return TV_ERR_NONFINITE;
     }
-    if ((unsigned)c->mode > (unsigned)APP_MODE_EXTERNAL || c->amplitude_V < TV_R(0.0) ||
+    if ((unsigned)c->mode > (unsigned)APP_MODE_STOP_LEARN || c->amplitude_V < TV_R(0.0) ||
         c->freq_Hz < TV_R(0.0) || c->chirp_f1_Hz < TV_R(0.0) || !(c->chirp_period_s > TV_R(0.0)) ||
         c->target_margin_rad < TV_R(0.0) || c->kp_V_rad < TV_R(0.0) || c->ki_V_rad_s < TV_R(0.0) ||
         c->kd_V_s_rad < TV_R(0.0) || c->i_limit_V < TV_R(0.0) || !(c->duty_limit > TV_R(0.0)) ||
@@ -138,6 +139,12 @@ int app_init(app_t *app, const app_config_t *cfg)
         return rc;
     }
     {
+        sl_t probe;
+        if (sl_start(&probe, &cfg->stop_learn, &cfg->model) != TV_OK) {
+            return TV_ERR_CONFIG;
+        }
+    }
+    {
         nism_t probe;
         rc = nism_init(&probe, &cfg->nism);
         if (rc != TV_OK) {
@@ -148,6 +155,9 @@ int app_init(app_t *app, const app_config_t *cfg)
     app->cfg = *cfg;
     app->ekf = ekf;
     (void)nism_init(&app->nism, &cfg->nism); /* validated above */
+    if (cfg->control.mode == APP_MODE_STOP_LEARN) {
+        (void)sl_start(&app->sl, &cfg->stop_learn, &cfg->model); /* validated above */
+    }
     return TV_OK;
 }
 
@@ -184,9 +194,31 @@ int app_set_control(app_t *app, const app_control_t *ctl)
         return TV_ERR_NULL;
     }
     rc = check_control(ctl);
+    if (rc == TV_OK && ctl->mode == APP_MODE_STOP_LEARN && app->cfg.control.mode != APP_MODE_STOP_LEARN) {
+        rc = sl_start(&app->sl, &app->cfg.stop_learn, &app->cfg.model);
+    }
     if (rc == TV_OK) {
         app->cfg.control = *ctl;
         app->integ_V = TV_R(0.0);
+    }
+    return rc;
+}
+
+const sl_t *app_stop_learn(const app_t *app)
+{
+    return app == NULL ? NULL : &app->sl;
+}
+
+int app_set_stops(app_t *app, tv_real_t phi_closed_rad, tv_real_t phi_open_rad)
+{
+    int rc;
+    if (app == NULL) {
+        return TV_ERR_NULL;
+    }
+    rc = ekf_set_stops(&app->ekf, phi_closed_rad, phi_open_rad);
+    if (rc == TV_OK) {
+        app->cfg.model.phi_closed_rad = phi_closed_rad;
+        app->cfg.model.phi_open_rad = phi_open_rad;
     }
     return rc;
 }
@@ -340,6 +372,22 @@ static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
         app->integ_V = clamp(app->integ_V + c->ki_V_rad_s * e * p->Ts_s, -c->i_limit_V, c->i_limit_V);
         u = p->R_ohm * torque_ff / nkt + p->n_gear * p->Ke_V_s_rad * w + c->kp_V_rad * e + app->integ_V -
             c->kd_V_s_rad * w;
+        return u;
+    }
+    case APP_MODE_STOP_LEARN: {
+        /* the last plausible measured angle (the estimate before any: the routine must not
+         * start from nothing) */
+        tv_real_t x[TVM_NX];
+        tv_real_t u;
+        ekf_state(&app->ekf, x);
+        u = sl_step(&app->sl, app->have_last_angle ? app->last_angle_rad : x[TVM_PHI]);
+        if (!sl_running(&app->sl)) {
+            if (app->sl.phase == SL_DONE) {
+                (void)app_set_stops(app, app->sl.phi_closed_rad, app->sl.phi_open_rad);
+            }
+            app->cfg.control.mode = APP_MODE_OFF;
+            u = TV_R(0.0);
+        }
         return u;
     }
     case APP_MODE_OFF:

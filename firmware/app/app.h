@@ -20,6 +20,7 @@
 
 #include "ekf.h"
 #include "nis_monitor.h"
+#include "stop_learn.h"
 #include "tv_model.h"
 #include "tv_real.h"
 
@@ -51,7 +52,15 @@ typedef enum {
      * (duty NaN or Inf, |duty| > 1, enable not 0/1) latches APP_FAULT_EXT_CMD and is treated as
      * a disabled bridge for the prediction; it is never used as a number.
      */
-    APP_MODE_EXTERNAL = 5
+    APP_MODE_EXTERNAL = 5,
+    /**
+     * Start-up stop learning (stop_learn.h): entering the mode (app_set_control()) starts the
+     * routine; it drives the plate slowly into each stop, and when it is done the learned stops
+     * replace the model's (estimator and position limits alike) and the mode returns to
+     * APP_MODE_OFF. A failed routine learns nothing and also returns to APP_MODE_OFF;
+     * app_stop_learn() reports either.
+     */
+    APP_MODE_STOP_LEARN = 6
 } app_mode_t;
 
 /** Fault flags (bit mask, latched). */
@@ -115,6 +124,7 @@ typedef struct {
     tvm_params_t model;   /**< estimator model parameters */
     ekf_config_t ekf;     /**< estimator configuration (set-up, Q, R, ...) */
     nism_config_t nism;   /**< consistency monitor (nis_monitor.h) */
+    sl_config_t stop_learn; /**< start-up stop learning (APP_MODE_STOP_LEARN, stop_learn.h) */
     app_calib_t calib;
     app_limits_t limits;
     app_control_t control;
@@ -187,6 +197,7 @@ typedef struct {
     tv_real_t integ_V;        /**< PID integral state [V] */
     uint32_t n_estimator_resets; /**< times app_clear_faults() restarted the estimator */
     nism_t nism;              /**< consistency monitor on the estimator's innovations */
+    sl_t sl;                  /**< stop-learning routine (APP_MODE_STOP_LEARN) and its last result */
 } app_t;
 
 /**
@@ -228,6 +239,20 @@ int app_set_control(app_t *app, const app_control_t *ctl);
  * @return TV_OK, TV_ERR_NULL, TV_ERR_NONFINITE.
  */
 int app_set_target(app_t *app, tv_real_t target_rad);
+
+/**
+ * The stop-learning routine's state: phase (SL_DONE: phi_closed_rad / phi_open_rad were
+ * learned and are in use; SL_FAILED: error says why, the stops are unchanged; SL_IDLE: never
+ * run). NULL if app is NULL.
+ */
+const sl_t *app_stop_learn(const app_t *app);
+
+/**
+ * Put stops learned earlier (a parameter file, the ECU's sl_nvm_t record) into use: the
+ * estimator's model and the position limits. Validated like the model (closed < 0 < open).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE; TV_ERR_CONFIG. On error nothing changes.
+ */
+int app_set_stops(app_t *app, tv_real_t phi_closed_rad, tv_real_t phi_open_rad);
 
 /**
  * Tell the application that the platform forced its outputs off this period after a failed PWM

@@ -521,6 +521,22 @@ void ekf_covariance(const ekf_t *ekf, tv_real_t P[TVM_NX][TVM_NX])
     memcpy(P, ekf->P, sizeof ekf->P);
 }
 
+int ekf_set_stops(ekf_t *ekf, tv_real_t phi_closed_rad, tv_real_t phi_open_rad)
+{
+    if (ekf == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!TV_IS_FINITE(phi_closed_rad) || !TV_IS_FINITE(phi_open_rad)) {
+        return TV_ERR_NONFINITE;
+    }
+    if (!(phi_closed_rad < TV_R(0.0)) || !(phi_open_rad > TV_R(0.0))) {
+        return TV_ERR_CONFIG;
+    }
+    ekf->model.p.phi_closed_rad = phi_closed_rad;
+    ekf->model.p.phi_open_rad = phi_open_rad;
+    return TV_OK;
+}
+
 void ekf_stops(const ekf_t *ekf, tv_real_t *phi_closed_rad, tv_real_t *phi_open_rad)
 {
     *phi_closed_rad = ekf->model.p.phi_closed_rad;

@@ -218,6 +218,13 @@ void ekf_covariance(const ekf_t *ekf, tv_real_t P[TVM_NX][TVM_NX]);
 /** The stops the filter's model uses now (learned outward when stop_learn_margin_rad > 0) [rad]. */
 void ekf_stops(const ekf_t *ekf, tv_real_t *phi_closed_rad, tv_real_t *phi_open_rad);
 
+/**
+ * Replace the stops of the filter's model (learned stops: app_set_stops(), stop_learn.h).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE; TV_ERR_CONFIG unless closed < 0 < open. On error
+ *         nothing changes.
+ */
+int ekf_set_stops(ekf_t *ekf, tv_real_t phi_closed_rad, tv_real_t phi_open_rad);
+
 /** The filter's health record (counters since ekf_init()). */
 void ekf_health(const ekf_t *ekf, ekf_health_t *h);
 

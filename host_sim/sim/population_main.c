@@ -60,6 +60,51 @@ typedef struct {
 } pop_run_t;
 
 static pop_run_t s_runs[2][POP_RUNS_MAX];
+
+/** Start-up stop learning over a section's units (--stop-learning on). */
+typedef struct {
+    unsigned units;        /**< units whose routine ran */
+    unsigned failed;       /**< routines that ended in SL_FAILED (the unit keeps the nominal stops) */
+    double err_closed_max; /**< largest |learned - plant| closed stop [rad] */
+    double err_open_max;   /**< largest |learned - plant| open stop [rad] */
+    double speed_max;      /**< largest plate speed near a stop while learning [rad/s] */
+    double time_max_s;     /**< longest routine [s] */
+} pop_learn_t;
+
+static pop_learn_t s_learn[2];
+
+static double max_finite(double a, double b)
+{
+    return !isfinite(a) || b > a ? b : a;
+}
+
+/* Run the start-up routine on the unit (seed 1) and put its stops into ac; stats into *l. */
+static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *l)
+{
+    sim_options_t opt;
+    sim_result_t r;
+    int rc;
+    sim_options_default(&opt);
+    opt.scenario = SIM_SCN_STOP_LEARN;
+    opt.plant = pc;
+    opt.app = ac;
+    rc = sim_run(&opt, &r);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    ++l->units;
+    l->speed_max = max_finite(l->speed_max, r.stop_contact_speed_max);
+    l->time_max_s = max_finite(l->time_max_s, r.stop_learn_s);
+    if (r.stop_learn_phase != (int)SL_DONE) {
+        ++l->failed;
+        return TV_OK;
+    }
+    l->err_closed_max = max_finite(l->err_closed_max, fabs(r.stop_learn_closed_rad - pc->phi_closed_rad));
+    l->err_open_max = max_finite(l->err_open_max, fabs(r.stop_learn_open_rad - pc->phi_open_rad));
+    ac->model.phi_closed_rad = (tv_real_t)r.stop_learn_closed_rad;
+    ac->model.phi_open_rad = (tv_real_t)r.stop_learn_open_rad;
+    return TV_OK;
+}
 static params_t s_params;
 
 static void usage(FILE *f)
@@ -67,7 +112,8 @@ static void usage(FILE *f)
     int k;
     fprintf(f,
             "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--scenarios A,B,...] [--duration S]\n"
-            "          [--sections stops,all] [--params FILE] [--json PATH] [--runs-csv PATH] [--quick] [--help]\n"
+            "          [--sections stops,all] [--params FILE] [--stop-learning on|off] [--json PATH]\n"
+            "          [--runs-csv PATH] [--quick] [--help]\n"
             "\n"
             "Runs the application's estimator (double build) on a population of throttles\n"
             "(host_sim/plant/plant_draw.h) over a scenario mix and scores its velocity against\n"
@@ -80,7 +126,9 @@ static void usage(FILE *f)
             "  --scenarios LIST  comma-separated (default: all but stuck_release):",
             s_prog, POP_PLANTS_MAX, POP_SEEDS_MAX, POP_FIRST_EVAL_UNIT);
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
-        fprintf(f, " %s", sim_scenario_name((sim_scenario_t)k));
+        if (k != (int)SIM_SCN_STOP_LEARN) {
+            fprintf(f, " %s", sim_scenario_name((sim_scenario_t)k));
+        }
     }
     fprintf(f,
             "\n"
@@ -88,6 +136,9 @@ static void usage(FILE *f)
             "  --sections LIST   stops, all or stops,all (default both)\n"
             "  --params FILE     filter parameters applied on top of each unit's configuration\n"
             "                    (e.g. ekf.contact_band_rad; host_sim/replay/params.h)\n"
+            "  --stop-learning on|off  on (default): each unit first runs the start-up stop\n"
+            "                    learning routine (scenario stop_learn, firmware/app/stop_learn.h) and\n"
+            "                    its filter uses the learned stops, as an ECU with its stored values\n"
             "  --json PATH       summary (default out/population/summary.json)\n"
             "  --runs-csv PATH   also one line per run\n"
             "  --quick           6 plants, 1 seed (a few seconds)\n"
@@ -211,10 +262,15 @@ int main(int argc, char **argv)
     int k;
     int sec;
     static const char *const takes_value[] = {"--plants", "--seeds", "--first-unit", "--scenarios", "--duration",
-                                              "--sections", "--params", "--json", "--runs-csv", NULL};
+                                              "--sections", "--params", "--json", "--runs-csv", "--stop-learning",
+                                              NULL};
+    int stop_learning = 1;
 
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
-        use_scn[k] = k != (int)SIM_SCN_STUCK_RELEASE;
+        use_scn[k] = k != (int)SIM_SCN_STUCK_RELEASE && k != (int)SIM_SCN_STOP_LEARN;
+    }
+    for (k = 0; k < 2; ++k) {
+        s_learn[k].err_closed_max = s_learn[k].err_open_max = s_learn[k].speed_max = s_learn[k].time_max_s = (double)NAN;
     }
     for (k = 1; k < argc; ++k) {
         const char *a = argv[k];
@@ -268,8 +324,9 @@ int main(int argc, char **argv)
             memset(use_scn, 0, sizeof use_scn);
             for (tok = strtok_r(buf, ",", &save); tok != NULL; tok = strtok_r(NULL, ",", &save)) {
                 sim_scenario_t s;
-                if (sim_scenario_from_name(tok, &s) != TV_OK) {
-                    return usage_error("option %s: unknown scenario '%s'", a, tok);
+                if (sim_scenario_from_name(tok, &s) != TV_OK || s == SIM_SCN_STOP_LEARN) {
+                    return usage_error("option %s: unknown scenario '%s' (stop_learn runs with --stop-learning on)",
+                                       a, tok);
                 }
                 use_scn[s] = 1;
             }
@@ -287,6 +344,12 @@ int main(int argc, char **argv)
             }
         } else if (strcmp(a, "--params") == 0) {
             params_path = v;
+        } else if (strcmp(a, "--stop-learning") == 0) {
+            if (strcmp(v, "on") == 0 || strcmp(v, "off") == 0) {
+                stop_learning = strcmp(v, "on") == 0;
+            } else {
+                return usage_error("option %s: '%s' is not on or off", a, v);
+            }
         } else if (strcmp(a, "--json") == 0) {
             json_path = v;
         } else {
@@ -357,6 +420,9 @@ int main(int argc, char **argv)
                     fprintf(stderr, "%s: %s\n", s_prog, err);
                     return 3;
                 }
+            }
+            if (rc == TV_OK && stop_learning) {
+                rc = learn_stops(&pc, &ac, &s_learn[sec]);
             }
             if (rc != TV_OK) {
                 fprintf(stderr, "%s: unit %llu: %s\n", s_prog, (unsigned long long)unit, tv_status_str(rc));
@@ -434,6 +500,12 @@ int main(int argc, char **argv)
         }
         summarise(s_runs[sec], n_runs[sec], -1, &s);
         print_sum(stdout, "ALL", &s);
+        if (stop_learning) {
+            const pop_learn_t *l = &s_learn[sec];
+            printf("  stop learning: %u units, %u failed; largest error closed %.2f mrad, open %.2f mrad; "
+                   "largest speed near a stop %.3g rad/s; longest %.2f s\n",
+                   l->units, l->failed, 1e3 * l->err_closed_max, 1e3 * l->err_open_max, l->speed_max, l->time_max_s);
+        }
     }
 
     /* JSON */
@@ -459,6 +531,7 @@ int main(int argc, char **argv)
     } else {
         fputs("null", f);
     }
+    fprintf(f, ",\n  \"stop_learning\": %s", stop_learning ? "true" : "false");
     fputs(",\n  \"scenarios\": [", f);
     {
         int first = 1;
@@ -478,6 +551,19 @@ int main(int argc, char **argv)
         fprintf(f, ",\n  \"%s\": ", sec == 0 ? "stops_varied" : "all_varied");
         summarise(s_runs[sec], n_runs[sec], -1, &s);
         json_sum(f, &s, (unsigned)plants);
+        if (stop_learning) {
+            const pop_learn_t *l = &s_learn[sec];
+            fprintf(f, ",\n  \"%s_stop_learning\": {\"units\": %u, \"failed\": %u, \"err_closed_max_rad\": ",
+                    sec == 0 ? "stops_varied" : "all_varied", l->units, l->failed);
+            json_num(f, l->err_closed_max);
+            fputs(", \"err_open_max_rad\": ", f);
+            json_num(f, l->err_open_max);
+            fputs(", \"speed_near_stop_max_rad_s\": ", f);
+            json_num(f, l->speed_max);
+            fputs(", \"duration_max_s\": ", f);
+            json_num(f, l->time_max_s);
+            fputs("}", f);
+        }
         fprintf(f, ",\n  \"%s_per_scenario\": {", sec == 0 ? "stops_varied" : "all_varied");
         {
             int first = 1;

@@ -58,6 +58,8 @@ extern "C" {
 #define SIM_NEES_WINDOW 100u
 /** Longest run sim_run() accepts [s]. */
 #define SIM_DURATION_MAX_S 600.0
+/** Distance from a plant stop within which stop_contact_speed_max samples the velocity [rad]. */
+#define SIM_CONTACT_NEAR_RAD 0.002
 /** Largest number of seeds sim_monte_carlo() accepts. */
 #define SIM_MC_SEEDS_MAX 100000u
 /** Lower tail probability of the two-sided 95 % chi-square band. */
@@ -93,6 +95,9 @@ typedef enum {
     /** closed loop to 0.8 rad, bridge disabled (the springs return the plate to limp-home),
      *  closed loop to the lowest target, bridge disabled again; 0.6 s each, 2.4 s */
     SIM_SCN_LIMP_HOME,
+    /** APP_MODE_STOP_LEARN (stop_learn.h): the start-up routine learns both stops, then the
+     *  bridge is off; 12 s. sim_result_t::stop_learn_* report it against the plant's stops. */
+    SIM_SCN_STOP_LEARN,
     SIM_SCN_COUNT /**< number of scenarios (not a scenario) */
 } sim_scenario_t;
 
@@ -197,6 +202,14 @@ typedef struct {
     double nees_window_max;          /**< largest average NEES over SIM_NEES_WINDOW consecutive scored ticks (NaN: too short) */
     uint32_t consistency_episodes;   /**< times the application's consistency monitor raised a flag (nis_monitor.h) */
     uint32_t consistency_flag_ticks; /**< ticks with a consistency flag raised */
+    int stop_learn_phase;            /**< sl_phase_t at the end (SL_IDLE: the routine did not run) */
+    int stop_learn_error;            /**< sl_error_t at the end */
+    double stop_learn_closed_rad;    /**< learned closed stop [rad] (NaN unless SL_DONE) */
+    double stop_learn_open_rad;      /**< learned open stop [rad] (NaN unless SL_DONE) */
+    double stop_learn_s;             /**< time the routine ran [s] */
+    double stop_contact_speed_max;   /**< largest plant velocity INTO a stop [rad/s] at a tick whose plant
+                                          angle was within SIM_CONTACT_NEAR_RAD of that stop or beyond it,
+                                          while APP_MODE_STOP_LEARN was in force (NaN: never there) */
 } sim_result_t;
 
 /** Monte Carlo results (sim_monte_carlo()). */

@@ -121,6 +121,13 @@ int sim_result_print(FILE *f, const sim_result_t *r)
                                    : "");
     fprintf(f, "  NIS per channel (1 dof each, expected 1): current %.3g, velocity %.3g, angle %.3g\n",
             r->nis_ch_avg[EKF_CH_CURRENT], r->nis_ch_avg[EKF_CH_VELOCITY], r->nis_ch_avg[EKF_CH_ANGLE]);
+    if (r->stop_learn_phase != (int)SL_IDLE) {
+        fprintf(f, "stop learning (APP_MODE_STOP_LEARN): %s%s%s after %.3f s; closed %.5f rad, open %.5f rad; "
+                   "largest speed near a stop %.3g rad/s\n",
+                sl_phase_name((sl_phase_t)r->stop_learn_phase), r->stop_learn_error != 0 ? ": " : "",
+                r->stop_learn_error != 0 ? sl_error_name((sl_error_t)r->stop_learn_error) : "", r->stop_learn_s,
+                r->stop_learn_closed_rad, r->stop_learn_open_rad, r->stop_contact_speed_max);
+    }
     if (r->tracking.n_steps > 0u) {
         const sim_tracking_t *tk = &r->tracking;
         uint32_t k;

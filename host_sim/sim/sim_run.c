@@ -36,6 +36,8 @@ static void sim_result_clear(sim_result_t *res)
     res->nis_avg = res->nis_lo = res->nis_hi = res->nis_dof_avg = SIM_NAN;
     res->first_fault_t_s = SIM_NAN;
     res->nees_window_max = SIM_NAN;
+    res->stop_learn_closed_rad = res->stop_learn_open_rad = SIM_NAN;
+    res->stop_contact_speed_max = SIM_NAN;
     sim_tracking_init(&res->tracking);
 }
 
@@ -356,6 +358,18 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         if (out.consistency != 0u) {
             ++res->consistency_flag_ticks;
         }
+        if (sl_running(app_stop_learn(app)) || row.mode == (int)APP_MODE_STOP_LEARN) {
+            res->stop_learn_s += SIM_TICK_S;
+            /* speed INTO a stop (moving away from it, released by the routine, does not count) */
+            const double v = tr[TVM_PHI] <= pcfg.phi_closed_rad + SIM_CONTACT_NEAR_RAD   ? -tr[TVM_W]
+                             : tr[TVM_PHI] >= pcfg.phi_open_rad - SIM_CONTACT_NEAR_RAD ? tr[TVM_W]
+                                                                                        : 0.0;
+            if (v > 0.0) {
+                if (!sim_finite(res->stop_contact_speed_max) || v > res->stop_contact_speed_max) {
+                    res->stop_contact_speed_max = v;
+                }
+            }
+        }
         res->missing_samples += out.missing_samples;
         if (scored) {
             int e;
@@ -460,6 +474,12 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->nis_hi = sim_chi2_quantile(SIM_BAND_P_HI, side->nis_dof_sum) / n;
     }
     res->faults = app->faults;
+    res->stop_learn_phase = (int)app->sl.phase;
+    res->stop_learn_error = (int)app->sl.error;
+    if (app->sl.phase == SL_DONE) {
+        res->stop_learn_closed_rad = (double)app->sl.phi_closed_rad;
+        res->stop_learn_open_rad = (double)app->sl.phi_open_rad;
+    }
     res->consistency_episodes = app->nism.episodes;
     res->paper_printed_resets = side->printed.n_resets;
     res->paper_eq12_resets = side->eq12.n_resets;

@@ -1,0 +1,345 @@
+/**
+ * @file stop_learn.c
+ * @brief Start-up stop learning (see stop_learn.h).
+ */
+#include "stop_learn.h"
+
+#include <stddef.h>
+#include <string.h>
+
+#include "tv_status.h"
+
+enum { STAGE_SEEK = 0, STAGE_SETTLE = 1, STAGE_MEASURE = 2 };
+
+/** Weight of a new sample in the velocity low-pass (time constant 10 ms at 1 kHz). */
+#define SL_W_ALPHA TV_R(0.1)
+
+void sl_config_default(sl_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return;
+    }
+    cfg->approach_rad_s = TV_R(0.5);
+    cfg->overshoot_rad = TV_R(0.15);
+    cfg->push_V = TV_R(6.0);
+    cfg->hold_Nm = TV_R(0.15);
+    cfg->kp_V_rad = TV_R(40.0);
+    cfg->kd_V_s_rad = TV_R(1.0);
+    cfg->still_rad = TV_R(0.002);
+    cfg->lead_rad = TV_R(0.03);
+    cfg->ki_V_rad_s = TV_R(200.0);
+    cfg->block_ms = 100u;
+    cfg->timeout_s = TV_R(8.0);
+    cfg->closed_min_rad = TV_R(-0.30);
+    cfg->closed_max_rad = TV_R(-0.02);
+    cfg->open_min_rad = TV_R(1.10);
+    cfg->open_max_rad = TV_R(1.70);
+    cfg->travel_min_rad = TV_R(1.20);
+    cfg->travel_max_rad = TV_R(1.80);
+}
+
+static int finite_pos(tv_real_t v)
+{
+    return TV_IS_FINITE(v) && v > TV_R(0.0);
+}
+
+static int config_ok(const sl_config_t *c)
+{
+    const tv_real_t vals[] = {c->approach_rad_s, c->overshoot_rad, c->push_V, c->hold_Nm, c->kp_V_rad,
+                              c->kd_V_s_rad, c->still_rad, c->lead_rad, c->ki_V_rad_s, c->timeout_s,
+                              c->closed_min_rad, c->closed_max_rad, c->open_min_rad, c->open_max_rad,
+                              c->travel_min_rad, c->travel_max_rad};
+    size_t k;
+    for (k = 0; k < sizeof vals / sizeof vals[0]; ++k) {
+        if (!TV_IS_FINITE(vals[k])) {
+            return 0;
+        }
+    }
+    return finite_pos(c->approach_rad_s) && c->approach_rad_s <= TV_R(1.0) && finite_pos(c->overshoot_rad) &&
+           finite_pos(c->push_V) && c->hold_Nm >= TV_R(0.0) && finite_pos(c->kp_V_rad) && c->kd_V_s_rad >= TV_R(0.0) &&
+           finite_pos(c->still_rad) && finite_pos(c->lead_rad) && c->ki_V_rad_s >= TV_R(0.0) && finite_pos(c->timeout_s) &&
+           c->block_ms >= 10u && c->block_ms <= SL_BLOCK_MAX && c->closed_min_rad < c->closed_max_rad &&
+           c->open_min_rad < c->open_max_rad && c->travel_min_rad < c->travel_max_rad;
+}
+
+int sl_start(sl_t *sl, const sl_config_t *cfg, const tvm_params_t *model)
+{
+    tvm_t probe;
+    if (sl == NULL || cfg == NULL || model == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!config_ok(cfg) || tvm_init(&probe, model) != TV_OK) {
+        return TV_ERR_CONFIG;
+    }
+    memset(sl, 0, sizeof *sl);
+    sl->cfg = *cfg;
+    sl->model = *model;
+    sl->phase = SL_CLOSED;
+    sl->error = SL_ERR_NONE;
+    return TV_OK;
+}
+
+int sl_running(const sl_t *sl)
+{
+    return sl != NULL && (sl->phase == SL_CLOSED || sl->phase == SL_OPEN);
+}
+
+/* Spring torque M0 sp(phi) + c phi the motor must balance [N m] (smoothed preload as in the model). */
+static tv_real_t spring_Nm(const tvm_params_t *p, tv_real_t phi)
+{
+    const tv_real_t e = p->e_phi_rad;
+    return p->M0_Nm * phi / TV_SQRT(phi * phi + e * e) + p->c_Nm_rad * phi;
+}
+
+static tv_real_t clampv(tv_real_t v, tv_real_t lim)
+{
+    return v > lim ? lim : (v < -lim ? -lim : v);
+}
+
+static void block_reset(sl_t *sl)
+{
+    sl->blk_n = 0u;
+    sl->n_sat = 0u;
+    sl->blk_sum = TV_R(0.0);
+}
+
+/* Add a sample; 1 when the block is complete (min, max, sum valid). */
+static int block_add(sl_t *sl, tv_real_t phi)
+{
+    if (sl->blk_n == 0u) {
+        sl->blk_min = phi;
+        sl->blk_max = phi;
+    } else {
+        sl->blk_min = phi < sl->blk_min ? phi : sl->blk_min;
+        sl->blk_max = phi > sl->blk_max ? phi : sl->blk_max;
+    }
+    sl->blk_sum += phi;
+    ++sl->blk_n;
+    return sl->blk_n >= sl->cfg.block_ms;
+}
+
+static tv_real_t fail(sl_t *sl, sl_error_t e)
+{
+    sl->phase = SL_FAILED;
+    sl->error = e;
+    return TV_R(0.0);
+}
+
+/* A stop was measured at phi: record it, move on (or finish with the plausibility checks). */
+static void stop_measured(sl_t *sl, tv_real_t phi)
+{
+    const sl_config_t *c = &sl->cfg;
+    if (sl->phase == SL_CLOSED) {
+        if (phi < c->closed_min_rad || phi > c->closed_max_rad) {
+            (void)fail(sl, SL_ERR_IMPLAUSIBLE_CLOSED);
+            return;
+        }
+        sl->phi_closed_rad = phi;
+        sl->phase = SL_OPEN;
+        sl->n_phase = 0u;
+        sl->stage = STAGE_SEEK;
+        sl->integ_V = TV_R(0.0);
+        block_reset(sl);
+        return;
+    }
+    if (phi < c->open_min_rad || phi > c->open_max_rad) {
+        (void)fail(sl, SL_ERR_IMPLAUSIBLE_OPEN);
+        return;
+    }
+    if (phi - sl->phi_closed_rad < c->travel_min_rad || phi - sl->phi_closed_rad > c->travel_max_rad) {
+        (void)fail(sl, SL_ERR_IMPLAUSIBLE_TRAVEL);
+        return;
+    }
+    sl->phi_open_rad = phi;
+    sl->phase = SL_DONE;
+}
+
+tv_real_t sl_step(sl_t *sl, tv_real_t phi)
+{
+    const sl_config_t *c;
+    const tvm_params_t *p;
+    tv_real_t dir;
+    tv_real_t goal;
+    tv_real_t v_per_Nm;
+    if (sl == NULL || !sl_running(sl)) {
+        return TV_R(0.0);
+    }
+    c = &sl->cfg;
+    p = &sl->model;
+    tv_real_t w;
+    if (!TV_IS_FINITE(phi)) {
+        return fail(sl, SL_ERR_INPUT);
+    }
+    if ((tv_real_t)sl->n_phase * p->Ts_s > c->timeout_s) {
+        return fail(sl, sl->phase == SL_CLOSED ? SL_ERR_TIMEOUT_CLOSED : SL_ERR_TIMEOUT_OPEN);
+    }
+    ++sl->n_total;
+    dir = sl->phase == SL_CLOSED ? TV_R(-1.0) : TV_R(1.0);
+    goal = sl->phase == SL_CLOSED ? p->phi_closed_rad - c->overshoot_rad : p->phi_open_rad + c->overshoot_rad;
+    v_per_Nm = p->R_ohm / (p->n_gear * p->Kt_Nm_A);
+    if (sl->n_phase++ == 0u) {
+        sl->target_rad = phi; /* start from where the plate is */
+        sl->phi_prev = phi;
+        sl->w_f = TV_R(0.0);
+        block_reset(sl);
+    }
+    /* velocity for the D term: the differentiated measured angle through a first-order low-pass
+     * (time constant Ts / SL_W_ALPHA); the sensor alone, so a filter whose stops are wrong (the
+     * reason for learning them) cannot upset the routine */
+    sl->w_f += SL_W_ALPHA * ((phi - sl->phi_prev) / p->Ts_s - sl->w_f);
+    sl->phi_prev = phi;
+    w = sl->w_f;
+    if (sl->stage == STAGE_SEEK) {
+        tv_real_t u;
+        tv_real_t e;
+        const tv_real_t step = c->approach_rad_s * p->Ts_s;
+        tv_real_t v_t = dir * c->approach_rad_s;
+        if (dir * (goal - sl->target_rad) > step) {
+            sl->target_rad += dir * step;
+        } else {
+            sl->target_rad = goal;
+            v_t = TV_R(0.0);
+        }
+        /* the target never leads the plate by more than lead_rad: a plate held by friction
+         * waits for the integral to break it away, and then cannot run far ahead */
+        if (dir * (sl->target_rad - phi) > c->lead_rad) {
+            sl->target_rad = phi + dir * c->lead_rad;
+            v_t = TV_R(0.0);
+        }
+        e = sl->target_rad - phi;
+        sl->integ_V = clampv(sl->integ_V + c->ki_V_rad_s * e * p->Ts_s, c->push_V);
+        u = v_per_Nm * spring_Nm(p, sl->target_rad) + p->n_gear * p->Ke_V_s_rad * v_t + c->kp_V_rad * e +
+            sl->integ_V - c->kd_V_s_rad * w;
+        if (dir * u >= c->push_V) {
+            ++sl->n_sat;
+        }
+        if (block_add(sl, phi)) {
+            const tv_real_t mean = sl->blk_sum / (tv_real_t)sl->blk_n;
+            /* still through a whole block with the full push toward the stop: pressed against
+             * it (or jammed: the plausibility windows tell) */
+            if (sl->n_sat >= sl->blk_n && sl->blk_max - sl->blk_min < c->still_rad) {
+                sl->stage = STAGE_SETTLE;
+                sl->u_hold_V = clampv(v_per_Nm * (spring_Nm(p, mean) + dir * c->hold_Nm), c->push_V);
+            }
+            block_reset(sl);
+        }
+        return clampv(u, c->push_V);
+    }
+    if (block_add(sl, phi)) {
+        const tv_real_t mean = sl->blk_sum / (tv_real_t)sl->blk_n;
+        const int still = sl->blk_max - sl->blk_min < c->still_rad;
+        block_reset(sl);
+        if (sl->stage == STAGE_SETTLE) {
+            sl->stage = STAGE_MEASURE;
+        } else if (still) {
+            stop_measured(sl, mean);
+            return sl_running(sl) ? sl->u_hold_V : TV_R(0.0);
+        }
+    }
+    return sl->u_hold_V;
+}
+
+const char *sl_phase_name(sl_phase_t ph)
+{
+    static const char *const names[] = {"idle", "closed", "open", "done", "failed"};
+    return (unsigned)ph < sizeof names / sizeof names[0] ? names[ph] : "?";
+}
+
+const char *sl_error_name(sl_error_t e)
+{
+    static const char *const names[] = {"none",
+                                        "timeout at the closed stop",
+                                        "timeout at the open stop",
+                                        "closed stop outside its plausible window",
+                                        "open stop outside its plausible window",
+                                        "travel outside its plausible window",
+                                        "non-finite input"};
+    return (unsigned)e < sizeof names / sizeof names[0] ? names[e] : "?";
+}
+
+uint32_t sl_crc32(const uint8_t *data, uint32_t n)
+{
+    uint32_t crc = 0xFFFFFFFFu;
+    uint32_t k;
+    if (data == NULL) {
+        return 0u;
+    }
+    for (k = 0u; k < n; ++k) {
+        int b;
+        crc ^= data[k];
+        for (b = 0; b < 8; ++b) {
+            crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+        }
+    }
+    return crc ^ 0xFFFFFFFFu;
+}
+
+static void put_u32(uint8_t *b, uint32_t v)
+{
+    b[0] = (uint8_t)v;
+    b[1] = (uint8_t)(v >> 8);
+    b[2] = (uint8_t)(v >> 16);
+    b[3] = (uint8_t)(v >> 24);
+}
+
+static uint32_t get_u32(const uint8_t *b)
+{
+    return (uint32_t)b[0] | ((uint32_t)b[1] << 8) | ((uint32_t)b[2] << 16) | ((uint32_t)b[3] << 24);
+}
+
+static uint32_t f32_bits(float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    return u;
+}
+
+static float bits_f32(uint32_t u)
+{
+    float f;
+    memcpy(&f, &u, sizeof f);
+    return f;
+}
+
+int sl_nvm_pack(const sl_nvm_t *rec, uint8_t buf[SL_NVM_BYTES])
+{
+    if (rec == NULL || buf == NULL) {
+        return TV_ERR_NULL;
+    }
+    put_u32(buf, rec->magic);
+    put_u32(buf + 4, (uint32_t)rec->version | ((uint32_t)rec->reserved << 16));
+    put_u32(buf + 8, f32_bits(rec->phi_closed_rad));
+    put_u32(buf + 12, f32_bits(rec->phi_open_rad));
+    put_u32(buf + 16, rec->n_learns);
+    put_u32(buf + 20, sl_crc32(buf, 20u));
+    return TV_OK;
+}
+
+int sl_nvm_unpack(const uint8_t buf[SL_NVM_BYTES], sl_nvm_t *rec)
+{
+    sl_nvm_t r;
+    sl_config_t d;
+    uint32_t vw;
+    if (buf == NULL || rec == NULL) {
+        return TV_ERR_NULL;
+    }
+    sl_config_default(&d);
+    r.magic = get_u32(buf);
+    vw = get_u32(buf + 4);
+    r.version = (uint16_t)(vw & 0xFFFFu);
+    r.reserved = (uint16_t)(vw >> 16);
+    r.phi_closed_rad = bits_f32(get_u32(buf + 8));
+    r.phi_open_rad = bits_f32(get_u32(buf + 12));
+    r.n_learns = get_u32(buf + 16);
+    r.crc32 = get_u32(buf + 20);
+    if (r.magic != SL_NVM_MAGIC || r.version != SL_NVM_VERSION || r.crc32 != sl_crc32(buf, 20u)) {
+        return TV_ERR_FORMAT;
+    }
+    /* NaN fails every comparison below */
+    if (!((tv_real_t)r.phi_closed_rad >= d.closed_min_rad && (tv_real_t)r.phi_closed_rad <= d.closed_max_rad &&
+          (tv_real_t)r.phi_open_rad >= d.open_min_rad && (tv_real_t)r.phi_open_rad <= d.open_max_rad)) {
+        return TV_ERR_FORMAT;
+    }
+    *rec = r;
+    return TV_OK;
+}

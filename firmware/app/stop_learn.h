@@ -1,0 +1,168 @@
+/**
+ * @file stop_learn.h
+ * @brief Start-up stop learning: where the plate rests against each hard stop, as ECUs learn it.
+ *
+ * The estimator's model puts the stops at fixed angles; a real unit's stops sit a few
+ * hundredths of a radian elsewhere, and a model stop a few milliradians off makes the filter
+ * worse than differentiating the angle (README "Stop contact"). This routine measures them,
+ * through the position sensor alone, the way ECUs do their throttle "adaptation" at key-on and
+ * end of line:
+ *
+ *   1. CLOSED: a position target moves from where the plate is toward the closed stop at
+ *      approach_rad_s (<= 1 rad/s) and on past it by overshoot_rad, never leading the plate by
+ *      more than lead_rad; a PID law on the measured angle alone (D on its low-passed
+ *      derivative: the estimator, whose stops are what is being learned, is not used; the
+ *      model's spring and back-EMF as feed-forward) follows it with |u| <= push_V, so the plate
+ *      reaches the stop no faster than the target moves, and a plate held by friction is broken
+ *      away by the integral, not by a jump of the target.
+ *   2. When the plate has been still for one block (block_ms samples spread less than
+ *      still_rad) with the full push_V toward the stop throughout, it is pressed against the
+ *      stop (or jammed: the plausibility windows tell); the push is lowered to hold_Nm of net
+ *      torque (spring included, from the model) to keep the penetration of a soft stop small,
+ *      and after one block to settle the next still block's mean measured angle is the learned
+ *      stop.
+ *   3. OPEN: the same toward the open stop from there.
+ *   4. DONE (0 V): the springs return the plate to limp-home.
+ *
+ * Every phase has a timeout (timeout_s); a learned angle outside its plausibility window, or a
+ * travel (open - closed) outside its window, ends the routine with an error and learns nothing.
+ * The module is pure (no hardware, no globals, no heap, bounded work per step): the application
+ * (APP_MODE_STOP_LEARN, app.h) feeds it every sample and applies its voltage.
+ *
+ * Persistence: sl_nvm_t is the record an ECU keeps in non-volatile memory (magic, version,
+ * the two angles, CRC-32); sl_nvm_pack() / sl_nvm_unpack() write and validate it. Hosts and the
+ * Linux controller write the angles as model.phi_closed_rad / model.phi_open_rad in a
+ * parameter file instead.
+ */
+#ifndef STOP_LEARN_H
+#define STOP_LEARN_H
+
+#include <stdint.h>
+
+#include "tv_model.h"
+#include "tv_real.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Largest block length [samples] (bounds the work of a step: none, a block is O(1) per sample). */
+#define SL_BLOCK_MAX 1000u
+
+/** Phases. */
+typedef enum {
+    SL_IDLE = 0,     /**< not started */
+    SL_CLOSED = 1,   /**< seeking and measuring the closed stop */
+    SL_OPEN = 2,     /**< seeking and measuring the open stop */
+    SL_DONE = 3,     /**< both learned and plausible (result valid) */
+    SL_FAILED = 4    /**< timeout or implausible result (sl_t::error says which) */
+} sl_phase_t;
+
+/** Why the routine failed. */
+typedef enum {
+    SL_ERR_NONE = 0,
+    SL_ERR_TIMEOUT_CLOSED = 1,   /**< the plate did not come to rest at the closed stop in time */
+    SL_ERR_TIMEOUT_OPEN = 2,     /**< ... at the open stop */
+    SL_ERR_IMPLAUSIBLE_CLOSED = 3, /**< closed-stop angle outside [closed_min_rad, closed_max_rad] */
+    SL_ERR_IMPLAUSIBLE_OPEN = 4,   /**< open-stop angle outside [open_min_rad, open_max_rad] */
+    SL_ERR_IMPLAUSIBLE_TRAVEL = 5, /**< open - closed outside [travel_min_rad, travel_max_rad] */
+    SL_ERR_INPUT = 6               /**< a non-finite angle, velocity or supply was fed */
+} sl_error_t;
+
+/** Configuration (units in the names). sl_config_default() gives the documented defaults. */
+typedef struct {
+    tv_real_t approach_rad_s;  /**< target speed toward a stop, (0, 1]; default 0.5 */
+    tv_real_t overshoot_rad;   /**< the target goes this far beyond the model's stop, > 0; default 0.15 */
+    tv_real_t push_V;          /**< |u| limit while seeking, > 0; default 6 */
+    tv_real_t hold_Nm;         /**< net torque into the stop while measuring, >= 0; default 0.15 */
+    tv_real_t kp_V_rad;        /**< proportional gain on the measured angle error, > 0; default 40 */
+    tv_real_t kd_V_s_rad;      /**< derivative gain on the low-passed differentiated angle, >= 0; default 1 */
+    tv_real_t still_rad;       /**< max spread of a still block, > 0; default 0.002 */
+    tv_real_t lead_rad;        /**< the target leads the plate by at most this, > 0; default 0.03 */
+    tv_real_t ki_V_rad_s;      /**< integral gain on the angle error, >= 0; default 200 */
+    uint32_t block_ms;         /**< samples per block, 10..SL_BLOCK_MAX; default 100 */
+    tv_real_t timeout_s;       /**< per phase, > 0; default 8 */
+    tv_real_t closed_min_rad, closed_max_rad; /**< plausible closed stop; default -0.30 .. -0.02 (limp-home, 0, is not a stop) */
+    tv_real_t open_min_rad, open_max_rad;     /**< plausible open stop; default 1.10 .. 1.70 */
+    tv_real_t travel_min_rad, travel_max_rad; /**< plausible open - closed; default 1.20 .. 1.80 */
+} sl_config_t;
+
+/** Routine state (caller-owned). */
+typedef struct {
+    sl_config_t cfg;
+    tvm_params_t model;      /**< model for the feed-forward (springs, back-EMF, R, n Kt) */
+    sl_phase_t phase;
+    sl_error_t error;
+    uint32_t n_phase;        /**< samples in this phase */
+    uint8_t stage;           /**< 0 seek, 1 settle at hold, 2 measure */
+    tv_real_t target_rad;    /**< current position target */
+    tv_real_t u_hold_V;      /**< hold voltage of this stop */
+    tv_real_t integ_V;       /**< integral term [V] */
+    tv_real_t phi_prev;      /**< last angle [rad] */
+    tv_real_t w_f;           /**< low-passed differentiated angle [rad/s] */
+    uint32_t n_sat;          /**< samples of this block with the full push toward the stop */
+    /* current block */
+    uint32_t blk_n;
+    tv_real_t blk_min, blk_max, blk_sum;
+    /* results */
+    tv_real_t phi_closed_rad;  /**< learned closed stop (valid in SL_OPEN, SL_DONE) */
+    tv_real_t phi_open_rad;    /**< learned open stop (valid in SL_DONE) */
+    uint32_t n_total;          /**< samples since sl_start() */
+} sl_t;
+
+/** Defaults documented in sl_config_t. */
+void sl_config_default(sl_config_t *cfg);
+
+/**
+ * Validate cfg and model and arm the routine (phase SL_CLOSED from the next sl_step()).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (a value outside its documented range). On error
+ *         *sl is not written.
+ */
+int sl_start(sl_t *sl, const sl_config_t *cfg, const tvm_params_t *model);
+
+/**
+ * One 1 ms sample of the measured angle [rad] (both tracks). Returns the voltage to apply over
+ * the next period [V] (0 once DONE or FAILED). A non-finite angle fails the routine.
+ */
+tv_real_t sl_step(sl_t *sl, tv_real_t phi_meas_rad);
+
+/** 1 while the routine is running (CLOSED or OPEN). */
+int sl_running(const sl_t *sl);
+
+/** Name of a phase / error, for logs. */
+const char *sl_phase_name(sl_phase_t p);
+const char *sl_error_name(sl_error_t e);
+
+/** Non-volatile record of the learned stops (little-endian, 24 bytes when packed). */
+typedef struct {
+    uint32_t magic;          /**< SL_NVM_MAGIC */
+    uint16_t version;        /**< SL_NVM_VERSION */
+    uint16_t reserved;       /**< 0 */
+    float phi_closed_rad;    /**< learned closed stop [rad] */
+    float phi_open_rad;      /**< learned open stop [rad] */
+    uint32_t n_learns;       /**< learns since the record was created */
+    uint32_t crc32;          /**< CRC-32 (IEEE 802.3) of the 20 bytes before it */
+} sl_nvm_t;
+
+#define SL_NVM_MAGIC 0x53544F50u /* "STOP" */
+#define SL_NVM_VERSION 1u
+#define SL_NVM_BYTES 24u
+
+/** CRC-32 (IEEE 802.3, reflected, init and final xor 0xFFFFFFFF) of n bytes. */
+uint32_t sl_crc32(const uint8_t *data, uint32_t n);
+
+/** Pack rec into buf[SL_NVM_BYTES] (little-endian), computing its CRC. TV_OK or TV_ERR_NULL. */
+int sl_nvm_pack(const sl_nvm_t *rec, uint8_t buf[SL_NVM_BYTES]);
+
+/**
+ * Unpack and validate buf: magic, version, CRC, angles finite and inside the default
+ * plausibility windows. @return TV_OK; TV_ERR_NULL; TV_ERR_FORMAT (any check failed: *rec is
+ * not written, the caller keeps its model's stops).
+ */
+int sl_nvm_unpack(const uint8_t buf[SL_NVM_BYTES], sl_nvm_t *rec);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* STOP_LEARN_H */
