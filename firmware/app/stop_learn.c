@@ -7,6 +7,7 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "rawlog.h"
 #include "tv_status.h"
 
 enum { STAGE_SEEK = 0, STAGE_SETTLE = 1, STAGE_MEASURE = 2 };
@@ -259,19 +260,7 @@ const char *sl_error_name(sl_error_t e)
 
 uint32_t sl_crc32(const uint8_t *data, uint32_t n)
 {
-    uint32_t crc = 0xFFFFFFFFu;
-    uint32_t k;
-    if (data == NULL) {
-        return 0u;
-    }
-    for (k = 0u; k < n; ++k) {
-        int b;
-        crc ^= data[k];
-        for (b = 0; b < 8; ++b) {
-            crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
-        }
-    }
-    return crc ^ 0xFFFFFFFFu;
+    return data == NULL ? 0u : rawlog_crc32(0u, data, (size_t)n);
 }
 
 static void put_u32(uint8_t *b, uint32_t v)

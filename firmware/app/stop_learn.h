@@ -148,7 +148,8 @@ typedef struct {
 #define SL_NVM_VERSION 1u
 #define SL_NVM_BYTES 24u
 
-/** CRC-32 (IEEE 802.3, reflected, init and final xor 0xFFFFFFFF) of n bytes. */
+/** CRC-32 (IEEE 802.3, reflected, init and final xor 0xFFFFFFFF) of n bytes: rawlog_crc32(), the
+ *  log format's CRC, from the start value 0. */
 uint32_t sl_crc32(const uint8_t *data, uint32_t n);
 
 /** Pack rec into buf[SL_NVM_BYTES] (little-endian), computing its CRC. TV_OK or TV_ERR_NULL. */
