@@ -51,6 +51,185 @@ static int same_estimate(const ekf_t *a, const ekf_t *b)
            a->n_predict == b->n_predict && a->n_correct == b->n_correct;
 }
 
+#if TV_REAL_IS_DOUBLE
+/*
+ * The contact-torque state: (1) one predict and one angle update of the augmented filter against
+ * the same steps written out on the full 4x4 matrices (F4 = [[F, G], [0, beta]], P4 = F4 P4 F4^T
+ * + Q4; K = P4 H^T / s, P4 = (I - K H) P4 (I - K H)^T + r K K^T) from a random SPD P4;
+ * (2) on a truth that has a constant extra torque of 0.3 N m, the filter's d converges to it
+ * within 3 sigma and the velocity error stays small.
+ */
+static void test_contact_torque_state(void)
+{
+    tvm_params_t p;
+    ekf_config_t cfg;
+    ekf_t f;
+    double P4[4][4];
+    double A[4][4];
+    int a;
+    int b;
+    int c;
+    tvm_params_default(&p);
+    ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
+    cfg.qd_free_Nm2_s = 0.5;
+    cfg.d_tau_s = 0.02;
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    TV_CHECK_EQ_INT(f.d_on, 1);
+    /* a random SPD 4x4: A A^T + 0.1 I */
+    for (a = 0; a < 4; ++a) {
+        for (b = 0; b < 4; ++b) {
+            A[a][b] = urand() - 0.5;
+        }
+    }
+    for (a = 0; a < 4; ++a) {
+        for (b = 0; b < 4; ++b) {
+            P4[a][b] = a == b ? 0.1 : 0.0;
+            for (c = 0; c < 4; ++c) {
+                P4[a][b] += A[a][c] * A[b][c];
+            }
+        }
+    }
+    for (a = 0; a < 3; ++a) {
+        for (b = 0; b < 3; ++b) {
+            f.P[a][b] = P4[a][b];
+        }
+        f.Pxd[a] = P4[a][3];
+    }
+    f.Pdd = P4[3][3];
+    f.x[0] = 0.5;
+    f.x[1] = 3.0;
+    f.x[2] = 0.4;
+    f.d = 0.2;
+    {
+        double F[3][3];
+        double G[3];
+        double xn[3];
+        double F4[4][4] = {{0}};
+        double T4[4][4];
+        double Pn[4][4];
+        const double beta = exp(-1e-3 / 0.02);
+        const double u = 5.0;
+        tvm_step_dist(&f.model, f.x, f.d, u, xn, F, G);
+        for (a = 0; a < 3; ++a) {
+            for (b = 0; b < 3; ++b) {
+                F4[a][b] = F[a][b];
+            }
+            F4[a][3] = G[a];
+        }
+        F4[3][3] = beta;
+        for (a = 0; a < 4; ++a) {
+            for (b = 0; b < 4; ++b) {
+                T4[a][b] = 0.0;
+                for (c = 0; c < 4; ++c) {
+                    T4[a][b] += F4[a][c] * P4[c][b];
+                }
+            }
+        }
+        for (a = 0; a < 4; ++a) {
+            for (b = 0; b < 4; ++b) {
+                Pn[a][b] = (a < 3 && b < 3) ? cfg.Q[a][b] : 0.0;
+                for (c = 0; c < 4; ++c) {
+                    Pn[a][b] += T4[a][c] * F4[b][c];
+                }
+            }
+        }
+        Pn[3][3] += 0.5 * 1e-3;
+        TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
+        for (a = 0; a < 3; ++a) {
+            TV_CHECK_NEAR(f.x[a], xn[a], 1e-12 * (1.0 + fabs(xn[a])));
+            for (b = 0; b < 3; ++b) {
+                TV_CHECK_NEAR(f.P[a][b], Pn[a][b], 1e-9 * (1.0 + fabs(Pn[a][b])));
+            }
+            TV_CHECK_NEAR(f.Pxd[a], Pn[a][3], 1e-9 * (1.0 + fabs(Pn[a][3])));
+        }
+        TV_CHECK_NEAR(f.Pdd, Pn[3][3], 1e-12);
+        TV_CHECK_NEAR(f.d, 0.2 * beta, 1e-15);
+        /* one angle update, z = phi + 0.01 */
+        {
+            ekf_meas_t m;
+            const double r = cfg.r[EKF_CH_ANGLE];
+            const double y = 0.01;
+            const double s = Pn[2][2] + r;
+            double K[4];
+            double x4[4];
+            double I_KH[4][4];
+            double Pu[4][4];
+            x4[0] = f.x[0];
+            x4[1] = f.x[1];
+            x4[2] = f.x[2];
+            x4[3] = f.d;
+            m.z[EKF_CH_CURRENT] = f.x[0];
+            m.z[EKF_CH_VELOCITY] = 0.0;
+            m.z[EKF_CH_ANGLE] = f.x[2] + y;
+            for (a = 0; a < 4; ++a) {
+                K[a] = Pn[a][2] / s;
+                for (b = 0; b < 4; ++b) {
+                    I_KH[a][b] = (a == b ? 1.0 : 0.0) - (b == 2 ? K[a] : 0.0);
+                }
+            }
+            for (a = 0; a < 4; ++a) {
+                for (b = 0; b < 4; ++b) {
+                    T4[a][b] = 0.0;
+                    for (c = 0; c < 4; ++c) {
+                        T4[a][b] += I_KH[a][c] * Pn[c][b];
+                    }
+                }
+            }
+            for (a = 0; a < 4; ++a) {
+                for (b = 0; b < 4; ++b) {
+                    Pu[a][b] = r * K[a] * K[b];
+                    for (c = 0; c < 4; ++c) {
+                        Pu[a][b] += T4[a][c] * I_KH[b][c];
+                    }
+                }
+            }
+            TV_CHECK_EQ_INT(ekf_correct_channels(&f, &m, EKF_CH_BIT(EKF_CH_ANGLE), NULL), TV_OK);
+            for (a = 0; a < 3; ++a) {
+                TV_CHECK_NEAR(f.x[a], x4[a] + K[a] * y, 1e-9 * (1.0 + fabs(x4[a])));
+                for (b = 0; b < 3; ++b) {
+                    TV_CHECK_NEAR(f.P[a][b], Pu[a][b], 1e-9 * (1.0 + fabs(Pu[a][b])));
+                }
+                TV_CHECK_NEAR(f.Pxd[a], Pu[a][3], 1e-9 * (1.0 + fabs(Pu[a][3])));
+            }
+            TV_CHECK_NEAR(f.Pdd, Pu[3][3], 1e-9 * (1.0 + Pu[3][3]));
+            TV_CHECK_NEAR(f.d, x4[3] + K[3] * y, 1e-9);
+        }
+    }
+    /* (2) a truth with a constant extra 0.3 N m (a spring preload the model lacks) */
+    {
+        double xt[3] = {0.0, 0.0, 0.3};
+        double d_est = 0.0;
+        double sd = 0.0;
+        double werr = 0.0;
+        long k;
+        ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
+        cfg.qd_free_Nm2_s = 1e-3;
+        cfg.d_tau_s = 10.0;
+        cfg.x0[2] = 0.3;
+        TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+        for (k = 0; k < 4000; ++k) {
+            ekf_meas_t m;
+            const double u = 6.0 * sin(2.0 * PI_D * 2.0 * (double)k * 1e-3) + 2.0;
+            tvm_step_dist(&f.model, xt, 0.3, u, xt, NULL, NULL);
+            TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
+            m.z[EKF_CH_CURRENT] = xt[0] + 0.01 * gauss();
+            m.z[EKF_CH_VELOCITY] = 0.0;
+            m.z[EKF_CH_ANGLE] = xt[2] + 1.6e-4 * gauss();
+            TV_CHECK_EQ_INT(ekf_correct(&f, &m, NULL), TV_OK);
+            if (k >= 3000) {
+                werr += (f.x[1] - xt[1]) * (f.x[1] - xt[1]);
+            }
+        }
+        ekf_contact_torque(&f, &d_est, &sd);
+        printf("  contact torque: true 0.3 N m, estimate %.4f +- %.4f N m, velocity RMSE over the last second %.4f rad/s\n",
+               d_est, sd, sqrt(werr / 1000.0));
+        TV_CHECK(sd > 0.0);
+        TV_CHECK_NEAR(d_est, 0.3, 3.0 * sd);
+        TV_CHECK_LE(sqrt(werr / 1000.0), 0.1);
+    }
+}
+#endif
+
 static void test_bad_input_is_rejected_and_state_unchanged(void)
 {
     const tv_real_t zero = TV_R(0.0);
@@ -550,6 +729,7 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_invalid_configuration_is_rejected);
 #if TV_REAL_IS_DOUBLE
     TV_TEST_RUN(test_locally_observable_in_both_setups);
+    TV_TEST_RUN(test_contact_torque_state);
 #endif
     TV_TEST_RUN(test_converges_from_a_wrong_initial_state);
     if (s_soak_steps > 0) {

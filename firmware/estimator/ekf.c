@@ -147,6 +147,10 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->contact_band_rad = EKF_DEFAULT_CONTACT_BAND_RAD;
     cfg->qc_Nm2_s = EKF_DEFAULT_QC_NM2_S;
     cfg->stop_learn_margin_rad = EKF_DEFAULT_STOP_LEARN_MARGIN_RAD;
+    cfg->qd_contact_Nm2_s = EKF_DEFAULT_QD_CONTACT_NM2_S;
+    cfg->qd_free_Nm2_s = EKF_DEFAULT_QD_FREE_NM2_S;
+    cfg->d_tau_s = EKF_DEFAULT_D_TAU_S;
+    cfg->d_var_ceil = TV_R(1e4);
 }
 
 void ekf_config_paper(ekf_config_t *cfg)
@@ -170,6 +174,8 @@ void ekf_config_paper(ekf_config_t *cfg)
     cfg->contact_band_rad = TV_R(0.0);
     cfg->qc_Nm2_s = TV_R(0.0);
     cfg->stop_learn_margin_rad = TV_R(0.0);
+    cfg->qd_contact_Nm2_s = TV_R(0.0);
+    cfg->qd_free_Nm2_s = TV_R(0.0);
 }
 
 int ekf_q_from_spectral(const tvm_params_t *p, tv_real_t qu_V2_s, tv_real_t qT_Nm2_s,
@@ -217,7 +223,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->u_abs_max_V) || !TV_IS_FINITE(cfg->i_abs_max_A) ||
         !TV_IS_FINITE(cfg->w_abs_max_rad_s) || !TV_IS_FINITE(cfg->phi_min_rad) ||
         !TV_IS_FINITE(cfg->phi_max_rad) || !TV_IS_FINITE(cfg->contact_band_rad) || !TV_IS_FINITE(cfg->qc_Nm2_s) ||
-        !TV_IS_FINITE(cfg->stop_learn_margin_rad)) {
+        !TV_IS_FINITE(cfg->stop_learn_margin_rad) || !TV_IS_FINITE(cfg->qd_contact_Nm2_s) ||
+        !TV_IS_FINITE(cfg->qd_free_Nm2_s) || !TV_IS_FINITE(cfg->d_tau_s) || !TV_IS_FINITE(cfg->d_var_ceil)) {
         return TV_ERR_NONFINITE;
     }
     if (cfg->setup != EKF_SETUP_CURRENT_ANGLE && cfg->setup != EKF_SETUP_PAPER_3MEAS) {
@@ -236,7 +243,9 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     if (!(cfg->u_abs_max_V > TV_R(0.0)) || !(cfg->i_abs_max_A > TV_R(0.0)) ||
         !(cfg->w_abs_max_rad_s > TV_R(0.0)) || !(cfg->phi_max_rad > cfg->phi_min_rad) ||
         cfg->contact_band_rad < TV_R(0.0) || cfg->contact_band_rad > TV_R(0.5) || cfg->qc_Nm2_s < TV_R(0.0) ||
-        cfg->stop_learn_margin_rad < TV_R(0.0) || cfg->stop_learn_margin_rad > TV_R(0.5)) {
+        cfg->stop_learn_margin_rad < TV_R(0.0) || cfg->stop_learn_margin_rad > TV_R(0.5) ||
+        cfg->qd_contact_Nm2_s < TV_R(0.0) || cfg->qd_free_Nm2_s < TV_R(0.0) || !(cfg->d_tau_s > TV_R(0.0)) ||
+        !(cfg->d_var_ceil > TV_R(0.0))) {
         return TV_ERR_CONFIG;
     }
     if (!is_symmetric(&cfg->P0[0][0]) || !principal_minors_ok(&cfg->P0[0][0], 1) ||
@@ -261,14 +270,47 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     memcpy(ekf->P, cfg->P0, sizeof(mat3_t));
     /* the contact noise: a torque noise of density qc on the plate, nothing on the armature */
     (void)ekf_q_from_spectral(params, TV_R(0.0), cfg->qc_Nm2_s, ekf->Qc);
+    ekf->d_on = cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0);
+    ekf->d_beta = TV_EXP(-params->Ts_s / cfg->d_tau_s);
     return TV_OK;
 }
 
-/* P = F P F^T + Q (+ Qc when contact), bounds, sanity; see ekf_propagate(). */
-static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], int contact)
+/* The contact-torque part of an estimate is sane: finite, var >= 0, |cov| <= sqrt(var var). */
+static int dist_sane(const tv_real_t *P, const tv_real_t Pxd[TVM_NX], tv_real_t Pdd, tv_real_t d)
+{
+    const tv_real_t sum = d + Pxd[0] + Pxd[1] + Pxd[2] + Pdd;
+    const tv_real_t slack = TV_R(1.0001);
+    return TV_IS_FINITE(sum) && Pdd >= TV_R(0.0) && Pxd[0] * Pxd[0] <= M3(P, 0, 0) * Pdd * slack &&
+           Pxd[1] * Pxd[1] <= M3(P, 1, 1) * Pdd * slack && Pxd[2] * Pxd[2] <= M3(P, 2, 2) * Pdd * slack;
+}
+
+/* var(d) held below its ceiling by scaling its row and column (as apply_variance_bounds). */
+static void bound_dist(tv_real_t Pxd[TVM_NX], tv_real_t *Pdd, tv_real_t ceil_)
+{
+    if (*Pdd > ceil_) {
+        const tv_real_t s = TV_SQRT(ceil_ / *Pdd);
+        Pxd[0] *= s;
+        Pxd[1] *= s;
+        Pxd[2] *= s;
+        *Pdd = ceil_;
+    }
+}
+
+/*
+ * P = F P F^T + Q (+ Qc when contact), bounds, sanity; see ekf_propagate(). With the contact
+ * torque d (G = dx/dd, NULL = 0) the augmented covariance [[P, Pxd], [Pxd^T, Pdd]] goes through
+ * [[F, G], [0, beta]]:  P <- (F P + G Pxd^T) F^T + (F Pxd + G Pdd) G^T,
+ * Pxd <- beta (F Pxd + G Pdd),  Pdd <- beta^2 Pdd + qd,  d <- beta d.
+ */
+static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX],
+                     const tv_real_t G[TVM_NX], int contact)
 {
     mat3_t FP;
     mat3_t Pn;
+    tv_real_t FPd[TVM_NX] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
+    tv_real_t Pxd[TVM_NX] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
+    tv_real_t Pdd = TV_R(0.0);
+    tv_real_t d = TV_R(0.0);
     int a;
     int b;
     /* FP = F P */
@@ -279,7 +321,26 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
             FP[a][b] = F[a][0] * ekf->P[0][b] + F[a][1] * ekf->P[1][b] + F[a][2] * ekf->P[2][b];
         }
     }
-    /* Pn = FP F^T + Q, upper triangle computed once and mirrored: exactly symmetric. */
+    if (ekf->d_on) {
+        const tv_real_t beta = contact ? TV_R(1.0) : ekf->d_beta;
+        const tv_real_t qd = (contact ? ekf->cfg.qd_contact_Nm2_s : ekf->cfg.qd_free_Nm2_s) * ekf->model.p.Ts_s;
+        TV_UNROLL3
+        for (a = 0; a < TVM_NX; ++a) {
+            const tv_real_t g = G != NULL ? G[a] : TV_R(0.0);
+            FPd[a] = F[a][0] * ekf->Pxd[0] + F[a][1] * ekf->Pxd[1] + F[a][2] * ekf->Pxd[2] + g * ekf->Pdd;
+            TV_UNROLL3
+            for (b = 0; b < TVM_NX; ++b) {
+                FP[a][b] += g * ekf->Pxd[b];
+            }
+        }
+        TV_UNROLL3
+        for (a = 0; a < TVM_NX; ++a) {
+            Pxd[a] = beta * FPd[a];
+        }
+        Pdd = beta * beta * ekf->Pdd + qd;
+        d = beta * ekf->d;
+    }
+    /* Pn = FP F^T (+ FPd G^T) + Q, upper triangle computed once and mirrored: exactly symmetric. */
     TV_UNROLL3
     for (a = 0; a < TVM_NX; ++a) {
         TV_UNROLL3
@@ -288,16 +349,25 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
             if (contact) {
                 Pn[a][b] += ekf->Qc[a][b];
             }
+            if (ekf->d_on && G != NULL) {
+                Pn[a][b] += FPd[a] * G[b];
+            }
             Pn[b][a] = Pn[a][b];
         }
     }
     apply_variance_bounds(Pn, ekf->cfg.var_floor, ekf->cfg.var_ceil, ekf->n_floor, ekf->n_ceil);
-    if (!estimate_sane(x_pred, &Pn[0][0])) {
+    if (ekf->d_on) {
+        bound_dist(Pxd, &Pdd, ekf->cfg.d_var_ceil);
+    }
+    if (!estimate_sane(x_pred, &Pn[0][0]) || (ekf->d_on && !dist_sane(&Pn[0][0], Pxd, Pdd, d))) {
         ++ekf->n_rejected;
         return TV_ERR_NUMERIC;
     }
     memcpy(ekf->x, x_pred, sizeof ekf->x);
     memcpy(ekf->P, Pn, sizeof(mat3_t));
+    memcpy(ekf->Pxd, Pxd, sizeof Pxd);
+    ekf->Pdd = Pdd;
+    ekf->d = d;
     ++ekf->n_predict;
     if (contact) {
         ++ekf->n_contact;
@@ -310,13 +380,14 @@ int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX
     if (ekf == NULL || x_pred == NULL || F == NULL) {
         return TV_ERR_NULL;
     }
-    return propagate(ekf, x_pred, F, 0);
+    return propagate(ekf, x_pred, F, NULL, 0);
 }
 
 int ekf_predict(ekf_t *ekf, tv_real_t u_V)
 {
     tv_real_t xn[TVM_NX];
     mat3_t F;
+    tv_real_t G[TVM_NX];
     if (ekf == NULL) {
         return TV_ERR_NULL;
     }
@@ -328,13 +399,17 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
         ++ekf->n_rejected;
         return TV_ERR_RANGE;
     }
-    tvm_step(&ekf->model, ekf->x, u_V, xn, F);
+    if (ekf->d_on) {
+        tvm_step_dist(&ekf->model, ekf->x, ekf->d, u_V, xn, F, G);
+    } else {
+        tvm_step(&ekf->model, ekf->x, u_V, xn, F);
+    }
     {
         /* in the contact band of a stop (either side) the contact law is uncertain */
         const tv_real_t band = ekf->cfg.contact_band_rad;
         const int contact = band > TV_R(0.0) && (xn[TVM_PHI] < ekf->model.p.phi_closed_rad + band ||
                                                  xn[TVM_PHI] > ekf->model.p.phi_open_rad - band);
-        return propagate(ekf, xn, F, contact);
+        return propagate(ekf, xn, F, ekf->d_on ? G : NULL, contact);
     }
 }
 
@@ -363,7 +438,14 @@ static int check_channel(const ekf_config_t *cfg, int ch, tv_real_t z)
  * The upper triangle is computed and mirrored, so P stays exactly symmetric.
  * Returns 0 on a non-positive innovation variance (nothing written).
  */
-static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, int j, tv_real_t z, tv_real_t r,
+/* The contact-torque part of the augmented state (NULL when there is none). */
+typedef struct {
+    tv_real_t d;
+    tv_real_t Pxd[TVM_NX];
+    tv_real_t Pdd;
+} dist_part_t;
+
+static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, dist_part_t *dp, int j, tv_real_t z, tv_real_t r,
                          tv_real_t *innov, tv_real_t *innov_var)
 {
     tv_real_t K[TVM_NX];
@@ -380,6 +462,27 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, int j, tv_real_t z, tv_r
     TV_UNROLL3
     for (a = 0; a < TVM_NX; ++a) {
         K[a] = P[a][j] * inv_s;
+    }
+    if (dp != NULL) {
+        /* the same Joseph form on the augmented rows (d is index 3; P_jd = Pxd_j):
+         *   A_ad = Pxd_a - K_a Pxd_j,  A_aj as below,  A_dj = Pxd_j - Kd P_jj,  A_dd = Pdd - Kd Pxd_j
+         *   Pxd_a <- A_ad - A_aj Kd + r K_a Kd,  Pdd <- A_dd - A_dj Kd + r Kd^2 (old P throughout) */
+        const tv_real_t Kd = dp->Pxd[j] * inv_s;
+        const tv_real_t A_dj = dp->Pxd[j] - Kd * P[j][j];
+        const tv_real_t A_dd = dp->Pdd - Kd * dp->Pxd[j];
+        tv_real_t nPxd[TVM_NX];
+        TV_UNROLL3
+        for (a = 0; a < TVM_NX; ++a) {
+            const tv_real_t A_ad = dp->Pxd[a] - K[a] * dp->Pxd[j];
+            const tv_real_t A_aj = P[a][j] - K[a] * P[j][j];
+            nPxd[a] = A_ad - A_aj * Kd + r * K[a] * Kd;
+        }
+        TV_UNROLL3
+        for (a = 0; a < TVM_NX; ++a) {
+            dp->Pxd[a] = nPxd[a];
+        }
+        dp->Pdd = A_dd - A_dj * Kd + r * Kd * Kd;
+        dp->d += Kd * y;
     }
     TV_UNROLL3
     for (a = 0; a < TVM_NX; ++a) {
@@ -417,6 +520,7 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     ekf_innov_t res;
     tv_real_t x[TVM_NX];
     mat3_t P;
+    dist_part_t dp;
     uint8_t use[EKF_NCH];
     int ch;
     if (ekf == NULL || meas == NULL) {
@@ -451,9 +555,12 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     res.n_used = 0;
     memcpy(x, ekf->x, sizeof x);
     memcpy(P, ekf->P, sizeof(mat3_t));
+    dp.d = ekf->d;
+    memcpy(dp.Pxd, ekf->Pxd, sizeof dp.Pxd);
+    dp.Pdd = ekf->Pdd;
     for (ch = 0; ch < EKF_NCH; ++ch) {
         if (use[ch]) {
-            if (!scalar_update(x, P, channel_state[ch], meas->z[ch], ekf->cfg.r[ch], &res.innov[ch],
+            if (!scalar_update(x, P, ekf->d_on ? &dp : NULL, channel_state[ch], meas->z[ch], ekf->cfg.r[ch], &res.innov[ch],
                                &res.innov_var[ch])) {
                 ++ekf->n_rejected;
                 if (out != NULL) {
@@ -468,7 +575,11 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
         }
     }
     apply_variance_bounds(P, ekf->cfg.var_floor, ekf->cfg.var_ceil, ekf->n_floor, ekf->n_ceil);
-    if (!estimate_sane(x, &P[0][0]) || !TV_IS_FINITE(res.nis_total)) {
+    if (ekf->d_on) {
+        bound_dist(dp.Pxd, &dp.Pdd, ekf->cfg.d_var_ceil);
+    }
+    if (!estimate_sane(x, &P[0][0]) || !TV_IS_FINITE(res.nis_total) ||
+        (ekf->d_on && !dist_sane(&P[0][0], dp.Pxd, dp.Pdd, dp.d))) {
         ++ekf->n_rejected;
         if (out != NULL) {
             memset(out, 0, sizeof *out);
@@ -477,6 +588,9 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     }
     memcpy(ekf->x, x, sizeof x);
     memcpy(ekf->P, P, sizeof(mat3_t));
+    ekf->d = dp.d;
+    memcpy(ekf->Pxd, dp.Pxd, sizeof dp.Pxd);
+    ekf->Pdd = dp.Pdd;
     if (res.n_used > 0u) {
         ++ekf->n_correct;
     }
@@ -541,6 +655,12 @@ void ekf_stops(const ekf_t *ekf, tv_real_t *phi_closed_rad, tv_real_t *phi_open_
 {
     *phi_closed_rad = ekf->model.p.phi_closed_rad;
     *phi_open_rad = ekf->model.p.phi_open_rad;
+}
+
+void ekf_contact_torque(const ekf_t *ekf, tv_real_t *d_Nm, tv_real_t *sigma_Nm)
+{
+    *d_Nm = ekf->d;
+    *sigma_Nm = TV_SQRT(ekf->Pdd);
 }
 
 void ekf_health(const ekf_t *ekf, ekf_health_t *h)

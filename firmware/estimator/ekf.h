@@ -49,6 +49,11 @@ extern "C" {
 #define EKF_DEFAULT_QC_NM2_S TV_R(0.0)
 #define EKF_DEFAULT_STOP_LEARN_MARGIN_RAD TV_R(0.0)
 
+/** Default contact-torque state (ekf_config_t::qd_contact_Nm2_s ...): off until tuned. */
+#define EKF_DEFAULT_QD_CONTACT_NM2_S TV_R(0.0)
+#define EKF_DEFAULT_QD_FREE_NM2_S TV_R(0.0)
+#define EKF_DEFAULT_D_TAU_S TV_R(0.005)
+
 /** Measurement channels (indices into measurement arrays). */
 enum { EKF_CH_CURRENT = 0, EKF_CH_VELOCITY = 1, EKF_CH_ANGLE = 2, EKF_NCH = 3 };
 
@@ -88,6 +93,18 @@ typedef struct {
      * that far (ekf_stops() reports them).
      */
     tv_real_t stop_learn_margin_rad;
+    /**
+     * Contact torque d (README "Stop contact"): a fourth state, a torque on the plate [N m]
+     * (positive = opening) that the model's stop law does not explain. It is a random walk of
+     * density qd_contact_Nm2_s while the predicted angle is in the contact band and
+     * qd_free_Nm2_s elsewhere; outside the band it also decays to 0 with time constant d_tau_s
+     * (the plate has left the stop, so its reaction is gone). Both densities 0 = no such state
+     * (the 3-state filter, exactly). [N^2 m^2 s], >= 0; d_tau_s [s] > 0.
+     */
+    tv_real_t qd_contact_Nm2_s;
+    tv_real_t qd_free_Nm2_s;            /**< contact-torque density away from the stops [N^2 m^2 s], >= 0 */
+    tv_real_t d_tau_s;                  /**< decay time of the contact torque outside the band [s], > 0 */
+    tv_real_t d_var_ceil;               /**< upper bound on the contact torque's variance [N^2 m^2], > 0 */
 } ekf_config_t;
 
 /** Filter state. Allocate it anywhere (static, stack); initialise with ekf_init(). */
@@ -104,6 +121,12 @@ typedef struct {
     tv_real_t Qc[TVM_NX][TVM_NX];       /**< contact process noise per Ts (from qc_Nm2_s), added in the contact band */
     uint32_t n_contact;                 /**< predictions that ended in the contact band */
     uint32_t n_stop_moves;              /**< times a stop was moved out (stop learning) */
+    /* the contact-torque state (qd_* > 0): estimate, its covariance with x, its variance */
+    int d_on;                           /**< 1 when the contact-torque state is in use */
+    tv_real_t d_beta;                   /**< exp(-Ts / d_tau_s): decay per period outside the band */
+    tv_real_t d;                        /**< contact torque estimate [N m], positive = opening */
+    tv_real_t Pxd[TVM_NX];              /**< cov(x, d) (A N m, rad/s N m, rad N m) */
+    tv_real_t Pdd;                      /**< var(d) [N^2 m^2] */
 } ekf_t;
 
 /**
@@ -224,6 +247,12 @@ void ekf_stops(const ekf_t *ekf, tv_real_t *phi_closed_rad, tv_real_t *phi_open_
  *         nothing changes.
  */
 int ekf_set_stops(ekf_t *ekf, tv_real_t phi_closed_rad, tv_real_t phi_open_rad);
+
+/**
+ * The contact-torque estimate [N m] (positive = opening) and its standard deviation; both 0
+ * when the configuration has no contact-torque state.
+ */
+void ekf_contact_torque(const ekf_t *ekf, tv_real_t *d_Nm, tv_real_t *sigma_Nm);
 
 /** The filter's health record (counters since ekf_init()). */
 void ekf_health(const ekf_t *ekf, ekf_health_t *h);

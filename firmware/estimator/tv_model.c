@@ -31,6 +31,7 @@ void tvm_params_default(tvm_params_t *p)
     p->phi_open_rad = TV_R(1.3660766); /* -0.10 + 84 deg */
     p->k_stop_Nm_rad = TV_R(1.0e4);
     p->d_stop_Nm_s_rad = TV_R(2.4);
+    p->stop_exponent = TV_R(0.0);
     p->e_phi_rad = TV_R(1.0e-3);
     p->e_w_rad_s = TV_R(1.0e-3);
     p->Ts_s = (tv_real_t)TV_PAPER_TS_S;
@@ -50,7 +51,7 @@ int tvm_init(tvm_t *m, const tvm_params_t *p)
                                   p->J_kg_m2,        p->n_gear,        p->Mc_Nm,         p->M0_Nm,
                                   p->c_Nm_rad,       p->Kv_Nm_s_rad,   p->Ms_Nm,         p->ws_rad_s,
                                   p->phi_closed_rad, p->phi_open_rad,  p->k_stop_Nm_rad, p->d_stop_Nm_s_rad,
-                                  p->e_phi_rad,      p->e_w_rad_s,     p->Ts_s};
+                                  p->e_phi_rad,      p->e_w_rad_s,     p->Ts_s,          p->stop_exponent};
         size_t k;
         for (k = 0; k < sizeof vals / sizeof vals[0]; ++k) {
             if (!TV_IS_FINITE(vals[k])) {
@@ -62,7 +63,9 @@ int tvm_init(tvm_t *m, const tvm_params_t *p)
         !positive(p->J_kg_m2) || !positive(p->n_gear) || !nonneg(p->Mc_Nm) || !nonneg(p->M0_Nm) ||
         !nonneg(p->c_Nm_rad) || !nonneg(p->Kv_Nm_s_rad) || p->Ms_Nm < p->Mc_Nm || !positive(p->ws_rad_s) ||
         !(p->phi_closed_rad < TV_R(0.0)) || !(p->phi_open_rad > TV_R(0.0)) || !nonneg(p->k_stop_Nm_rad) ||
-        !nonneg(p->d_stop_Nm_s_rad) || !positive(p->e_phi_rad) || !positive(p->e_w_rad_s) ||
+        !nonneg(p->d_stop_Nm_s_rad) || !(p->stop_exponent == TV_R(0.0) ||
+                                         (p->stop_exponent >= TV_R(1.0) && p->stop_exponent <= TV_R(3.0))) ||
+        !positive(p->e_phi_rad) || !positive(p->e_w_rad_s) ||
         !positive(p->Ts_s) || p->substeps < 1 || p->substeps > TVM_SUBSTEPS_MAX) {
         return TV_ERR_CONFIG;
     }
@@ -114,7 +117,21 @@ static tv_real_t stop_torque(const tvm_t *m, tv_real_t phi, tv_real_t w, tv_real
     tv_real_t torque = TV_R(0.0);
     tv_real_t dphi = TV_R(0.0);
     tv_real_t dw = TV_R(0.0);
-    if (phi < m->p.phi_closed_rad) {
+    if (m->p.stop_exponent > TV_R(0.0)) {
+        /* Hunt-Crossley: M = s p^e (k - s d w), s = +1 closed / -1 open, p = penetration */
+        const tv_real_t e = m->p.stop_exponent;
+        const tv_real_t s = phi < m->p.phi_closed_rad ? TV_R(1.0) : TV_R(-1.0);
+        const tv_real_t p = phi < m->p.phi_closed_rad ? m->p.phi_closed_rad - phi : phi - m->p.phi_open_rad;
+        if (p > TV_R(0.0)) {
+            const tv_real_t pe = TV_EXP(e * TV_LOG(p));
+            const tv_real_t f = k - s * d * w;
+            if (f > TV_R(0.0)) {
+                torque = s * pe * f;
+                dphi = -e * (pe / p) * f;
+                dw = -d * pe;
+            }
+        }
+    } else if (phi < m->p.phi_closed_rad) {
         const tv_real_t push = k * (m->p.phi_closed_rad - phi) - d * w;
         if (push > TV_R(0.0)) {
             torque = push;
@@ -168,6 +185,12 @@ static void mat3_mul(tv_real_t A[TVM_NX][TVM_NX], tv_real_t B[TVM_NX][TVM_NX], t
 void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_t x_next[TVM_NX],
               tv_real_t F[TVM_NX][TVM_NX])
 {
+    tvm_step_dist(m, x, TV_R(0.0), u_V, x_next, F, NULL);
+}
+
+void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv_real_t u_V,
+                   tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX])
+{
     const tvm_params_t *p = &m->p;
     tv_real_t i = x[TVM_I];
     tv_real_t w = x[TVM_W];
@@ -175,6 +198,8 @@ void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_
     tv_real_t Fa[TVM_NX][TVM_NX] = {{TV_R(1.0), TV_R(0.0), TV_R(0.0)},
                                     {TV_R(0.0), TV_R(1.0), TV_R(0.0)},
                                     {TV_R(0.0), TV_R(0.0), TV_R(1.0)}};
+    /* d x / d d_Nm, accumulated through the sub-steps: Ga <- S Ga + (0, dw1/dd, h dw1/dd) */
+    tv_real_t Ga[TVM_NX] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
     int k;
 
     for (k = 0; k < p->substeps; ++k) {
@@ -185,7 +210,7 @@ void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_
         const tv_real_t i1 = m->a * i + m->b_A_V * (u_V - m->nKe_V_s * w);
         const tv_real_t sp = preload_sign(phi, p->e_phi_rad, &dsp);
         const tv_real_t mstop = stop_torque(m, phi, w, &dMs_dphi, &dMs_dw);
-        const tv_real_t torque = m->nKt_Nm_A * i1 - p->M0_Nm * sp - p->c_Nm_rad * phi + mstop;
+        const tv_real_t torque = m->nKt_Nm_A * i1 - p->M0_Nm * sp - p->c_Nm_rad * phi + mstop + d_Nm;
         const tv_real_t z = w + m->h_J * torque;
         const tv_real_t D = m->h_J * friction_level(m, w, &dg_dw);
         const tv_real_t az = TV_FABS(z);
@@ -220,6 +245,15 @@ void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_
             S[2][0] = m->h_s * S[1][0];
             S[2][1] = m->h_s * S[1][1];
             S[2][2] = TV_R(1.0) + m->h_s * S[1][2];
+            if (G != NULL) {
+                const tv_real_t dw1_dd = slipping ? m->kappa * m->h_J : TV_R(0.0);
+                const tv_real_t g0 = S[0][0] * Ga[0] + S[0][1] * Ga[1] + S[0][2] * Ga[2];
+                const tv_real_t g1 = S[1][0] * Ga[0] + S[1][1] * Ga[1] + S[1][2] * Ga[2] + dw1_dd;
+                const tv_real_t g2 = S[2][0] * Ga[0] + S[2][1] * Ga[1] + S[2][2] * Ga[2] + m->h_s * dw1_dd;
+                Ga[0] = g0;
+                Ga[1] = g1;
+                Ga[2] = g2;
+            }
             mat3_mul(S, Fa, T);
             for (r = 0; r < TVM_NX; ++r) {
                 for (c = 0; c < TVM_NX; ++c) {
@@ -241,6 +275,11 @@ void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_
             for (c = 0; c < TVM_NX; ++c) {
                 F[r][c] = Fa[r][c];
             }
+        }
+        if (G != NULL) {
+            G[0] = Ga[0];
+            G[1] = Ga[1];
+            G[2] = Ga[2];
         }
     }
 }

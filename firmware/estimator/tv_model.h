@@ -16,11 +16,15 @@
  *   Mf(w)     = g(w) sgn(w) + Kv w
  *   g(w)      = Mc + (Ms - Mc) exp(-|w|_e / ws),  |w|_e = sqrt(w^2 + e_w^2) - e_w
  *   sp(phi)   = phi / sqrt(phi^2 + e_phi^2)        (limp-home preload sign, smoothed over e_phi)
- *   Mstop     = torque of the hard stops on the plate, positive = opening (Kelvin-Voigt, no
- *               adhesion):
+ *   Mstop     = torque of the hard stops on the plate, positive = opening, no adhesion;
+ *               Kelvin-Voigt when stop_exponent = 0 (the default):
  *       p_lo = phi_closed - phi > 0:  Mstop = +max(0, k_stop p_lo - d_stop w)
  *       p_hi = phi - phi_open   > 0:  Mstop = -max(0, k_stop p_hi + d_stop w)
- *       otherwise 0.
+ *       otherwise 0;
+ *               Hunt-Crossley when stop_exponent = e >= 1 (a learned or identified contact law,
+ *               README "Stop contact"; k_stop in N m/rad^e, d_stop = lambda in N m s/rad^(e+1)):
+ *       p_lo > 0:  Mstop = +max(0, p_lo^e (k_stop - d_stop w))
+ *       p_hi > 0:  Mstop = -max(0, p_hi^e (k_stop + d_stop w))
  *
  * DISCRETE PREDICTION MAP x(k+1) = f(x(k), u(k)) over Ts, and why it is built this way.
  *   The paper's forward Euler step is unstable at Ts = 1 ms (1 - R Ts / L = -1.15) and its
@@ -89,6 +93,7 @@ typedef struct {
     tv_real_t phi_open_rad;   /**< open hard stop [rad], > 0 */
     tv_real_t k_stop_Nm_rad;  /**< contact stiffness of both stops [N m/rad], >= 0 */
     tv_real_t d_stop_Nm_s_rad;/**< contact damping of both stops [N m s/rad], >= 0 */
+    tv_real_t stop_exponent;  /**< contact law: 0 = Kelvin-Voigt, else the Hunt-Crossley exponent in [1, 3] */
     tv_real_t e_phi_rad;      /**< smoothing width of the preload sign at limp-home [rad], > 0 */
     tv_real_t e_w_rad_s;      /**< smoothing width of |w| inside the Stribeck exponential [rad/s], > 0 */
     tv_real_t Ts_s;           /**< sample period of the map [s], > 0 (1e-3 for 1 kHz) */
@@ -112,7 +117,7 @@ typedef struct {
  *   phi_closed = -0.10 rad (-5.7 deg, OEM bodies close 5-7 deg below limp-home),
  *   phi_open   = phi_closed + 84 deg = 1.3660766 rad,
  *   k_stop = 1e4 N m/rad (8 mrad penetration for a 20 rad/s impact), d_stop = 2.4 N m s/rad
- *   (damping ratio 0.3 against J), e_phi = 1e-3 rad, e_w = 1e-3 rad/s, Ts = 1e-3 s, N = 10.
+ *   (damping ratio 0.3 against J), stop_exponent = 0 (Kelvin-Voigt), e_phi = 1e-3 rad, e_w = 1e-3 rad/s, Ts = 1e-3 s, N = 10.
  */
 void tvm_params_default(tvm_params_t *p);
 
@@ -138,6 +143,15 @@ tv_real_t tvm_stop_torque(const tvm_t *m, tv_real_t phi_rad, tv_real_t w_rad_s);
  */
 void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_t x_next[TVM_NX],
               tv_real_t F[TVM_NX][TVM_NX]);
+
+/**
+ * tvm_step() with an extra torque d_Nm [N m] on the plate (positive = opening), held over Ts:
+ * the disturbance-torque state of the EKF (ekf.h, "contact torque"). With d_Nm = 0 it is
+ * tvm_step() exactly. G, when F and G are both given, receives dx_next/dd_Nm (the input column of
+ * the Jacobian, same chain rule through the sub-steps); G is ignored when F is NULL.
+ */
+void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv_real_t u_V,
+                   tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX]);
 
 #ifdef __cplusplus
 }
