@@ -91,8 +91,59 @@ static void test_scripted_stops_are_learned(void)
     TV_CHECK_EQ_INT(sl.phase, SL_DONE);
     TV_CHECK_EQ_INT(sl.error, SL_ERR_NONE);
     TV_CHECK_NEAR((double)sl.phi_open_rad, open, 1e-6);
+    /* a plate that rests at the same angle under every level: a stop too stiff to resolve, so
+     * the stiffest law, with its onset at that angle */
+    TV_CHECK_NEAR((double)sl.k_stop, (double)c.k_max, 1e-6 * (double)c.k_max);
+    {
+        /* onset = rest angle less the stiffest law's mean penetration over the levels */
+        const double e = (double)c.contact_exponent;
+        const double kp = pow((double)c.k_max, -1.0 / e);
+        const double g = (pow((double)c.level_Nm[0], 1.0 / e) + pow((double)c.level_Nm[1], 1.0 / e) +
+                          pow((double)c.hold_Nm, 1.0 / e)) / 3.0;
+        TV_CHECK_NEAR((double)sl.onset_closed_rad, closed + kp * g, 1e-6);
+        TV_CHECK_NEAR((double)sl.onset_open_rad, open - kp * g, 1e-6);
+        TV_CHECK(kp * g > 5e-5); /* the check above sees the penetration term */
+    }
     TV_CHECK_NEAR((double)sl_step(&sl, TV_R(1.0)), 0.0, 0.0); /* done: 0 V */
     TV_CHECK(!sl_running(&sl));
+}
+
+/* The contact-law fit against rest angles written from the law itself, a = a0 + dir (F/k)^(1/e)
+ * (pow from libm, not the fit's exp/log), and its bounds. */
+static void test_contact_fit(void)
+{
+    const tv_real_t F[3] = {TV_R(0.6), TV_R(0.35), TV_R(0.15)};
+    tv_real_t a[3];
+    tv_real_t a0 = TV_R(0.0);
+    tv_real_t k = TV_R(0.0);
+    int j;
+    int s;
+    for (s = 0; s < 2; ++s) {
+        const double dir = s == 0 ? -1.0 : 1.0;
+        const double a0_true = s == 0 ? -0.0912 : 1.4377;
+        for (j = 0; j < 3; ++j) {
+            a[j] = (tv_real_t)(a0_true + dir * pow((double)F[j] / 2000.0, 1.0 / 1.25));
+        }
+        TV_CHECK_EQ_INT(sl_contact_fit(F, a, 3u, (tv_real_t)dir, TV_R(1.25), TV_R(450.0), TV_R(4.5e4), &a0, &k), TV_OK);
+        TV_CHECK_NEAR((double)k, 2000.0, 2000.0 * (TV_REAL_IS_DOUBLE ? 1e-9 : 2e-2));
+        TV_CHECK_NEAR((double)a0, a0_true, TV_REAL_IS_DOUBLE ? 1e-12 : 2e-6);
+        /* softer than k_min: held at k_min, onset refitted (mean residual 0 for that k) */
+        for (j = 0; j < 3; ++j) {
+            a[j] = (tv_real_t)(a0_true + dir * pow((double)F[j] / 100.0, 1.0 / 1.25));
+        }
+        TV_CHECK_EQ_INT(sl_contact_fit(F, a, 3u, (tv_real_t)dir, TV_R(1.25), TV_R(450.0), TV_R(4.5e4), &a0, &k), TV_OK);
+        TV_CHECK_NEAR((double)k, 450.0, 450.0 * 1e-5);
+        /* the wrong slope (noise on a rigid stop): the stiffest law */
+        a[0] = (tv_real_t)(a0_true - dir * 1e-4);
+        a[1] = (tv_real_t)a0_true;
+        a[2] = (tv_real_t)(a0_true + dir * 1e-4);
+        TV_CHECK_EQ_INT(sl_contact_fit(F, a, 3u, (tv_real_t)dir, TV_R(1.25), TV_R(450.0), TV_R(4.5e4), &a0, &k), TV_OK);
+        TV_CHECK_NEAR((double)k, 4.5e4, 4.5e4 * 1e-6);
+    }
+    TV_CHECK_EQ_INT(sl_contact_fit(F, a, 1u, TV_R(1.0), TV_R(1.25), TV_R(450.0), TV_R(4.5e4), &a0, &k), TV_ERR_CONFIG);
+    TV_CHECK_EQ_INT(sl_contact_fit(F, a, 3u, TV_R(1.0), TV_R(0.5), TV_R(450.0), TV_R(4.5e4), &a0, &k), TV_ERR_CONFIG);
+    TV_CHECK_EQ_INT(sl_contact_fit(F, a, 3u, TV_R(1.0), TV_R(1.25), TV_R(450.0), TV_R(400.0), &a0, &k), TV_ERR_CONFIG);
+    TV_CHECK_EQ_INT(sl_contact_fit(NULL, a, 3u, TV_R(1.0), TV_R(1.25), TV_R(450.0), TV_R(4.5e4), &a0, &k), TV_ERR_NULL);
 }
 
 static void test_timeout_and_implausible_results_learn_nothing(void)
@@ -241,6 +292,7 @@ int main(void)
 {
     TV_TEST_RUN(test_config_is_validated);
     TV_TEST_RUN(test_scripted_stops_are_learned);
+    TV_TEST_RUN(test_contact_fit);
     TV_TEST_RUN(test_timeout_and_implausible_results_learn_nothing);
     TV_TEST_RUN(test_nvm_record);
     TV_TEST_RUN(test_app_set_stops_is_validated);

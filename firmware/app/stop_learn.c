@@ -37,6 +37,14 @@ void sl_config_default(sl_config_t *cfg)
     cfg->open_max_rad = TV_R(1.70);
     cfg->travel_min_rad = TV_R(1.20);
     cfg->travel_max_rad = TV_R(1.80);
+    cfg->level_Nm[0] = TV_R(0.6);
+    cfg->level_Nm[1] = TV_R(0.35);
+    cfg->dither_Nm = TV_R(0.3);
+    cfg->dither_half_ms = 5u;
+    cfg->contact_exponent = TV_R(1.25);
+    cfg->k_min = TV_R(450.0);
+    cfg->k_max = TV_R(4.5e4);
+    cfg->lambda_per_k_s_rad = TV_R(0.16);
 }
 
 static int finite_pos(tv_real_t v)
@@ -49,7 +57,8 @@ static int config_ok(const sl_config_t *c)
     const tv_real_t vals[] = {c->approach_rad_s, c->overshoot_rad, c->push_V, c->hold_Nm, c->kp_V_rad,
                               c->kd_V_s_rad, c->still_rad, c->lead_rad, c->ki_V_rad_s, c->timeout_s,
                               c->closed_min_rad, c->closed_max_rad, c->open_min_rad, c->open_max_rad,
-                              c->travel_min_rad, c->travel_max_rad};
+                              c->travel_min_rad, c->travel_max_rad, c->level_Nm[0], c->level_Nm[1],
+                              c->dither_Nm, c->contact_exponent, c->k_min, c->k_max, c->lambda_per_k_s_rad};
     size_t k;
     for (k = 0; k < sizeof vals / sizeof vals[0]; ++k) {
         if (!TV_IS_FINITE(vals[k])) {
@@ -60,7 +69,11 @@ static int config_ok(const sl_config_t *c)
            finite_pos(c->push_V) && c->hold_Nm >= TV_R(0.0) && finite_pos(c->kp_V_rad) && c->kd_V_s_rad >= TV_R(0.0) &&
            finite_pos(c->still_rad) && finite_pos(c->lead_rad) && c->ki_V_rad_s >= TV_R(0.0) && finite_pos(c->timeout_s) &&
            c->block_ms >= 10u && c->block_ms <= SL_BLOCK_MAX && c->closed_min_rad < c->closed_max_rad &&
-           c->open_min_rad < c->open_max_rad && c->travel_min_rad < c->travel_max_rad;
+           c->open_min_rad < c->open_max_rad && c->travel_min_rad < c->travel_max_rad &&
+           c->level_Nm[0] > c->level_Nm[1] && c->level_Nm[1] > c->hold_Nm && c->hold_Nm > TV_R(0.0) &&
+           c->dither_Nm >= TV_R(0.0) && c->dither_half_ms >= 1u && c->contact_exponent >= TV_R(1.0) &&
+           c->contact_exponent <= TV_R(3.0) && finite_pos(c->k_min) && c->k_max > c->k_min &&
+           c->lambda_per_k_s_rad >= TV_R(0.0);
 }
 
 int sl_start(sl_t *sl, const sl_config_t *cfg, const tvm_params_t *model)
@@ -126,6 +139,73 @@ static tv_real_t fail(sl_t *sl, sl_error_t e)
     return TV_R(0.0);
 }
 
+/* x^y for x > 0 */
+static tv_real_t powp(tv_real_t x, tv_real_t y)
+{
+    return TV_EXP(y * TV_LOG(x));
+}
+
+int sl_contact_fit(const tv_real_t *F_Nm, const tv_real_t *a_rad, unsigned n, tv_real_t dir, tv_real_t e,
+                   tv_real_t k_min, tv_real_t k_max, tv_real_t *a0_rad, tv_real_t *k)
+{
+    tv_real_t g[SL_LEVELS];
+    tv_real_t gm = TV_R(0.0);
+    tv_real_t am = TV_R(0.0);
+    tv_real_t sgg = TV_R(0.0);
+    tv_real_t sga = TV_R(0.0);
+    tv_real_t c;
+    tv_real_t kk;
+    unsigned j;
+    if (F_Nm == NULL || a_rad == NULL || a0_rad == NULL || k == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (n < 2u || n > SL_LEVELS || !(e >= TV_R(1.0) && e <= TV_R(3.0)) || !(k_min > TV_R(0.0)) || !(k_max > k_min)) {
+        return TV_ERR_CONFIG;
+    }
+    for (j = 0; j < n; ++j) {
+        if (!(F_Nm[j] > TV_R(0.0)) || !TV_IS_FINITE(a_rad[j])) {
+            return TV_ERR_CONFIG;
+        }
+        g[j] = powp(F_Nm[j], TV_R(1.0) / e); /* penetration = (F / k)^(1/e) = k^(-1/e) g */
+        gm += g[j];
+        am += a_rad[j];
+    }
+    gm /= (tv_real_t)n;
+    am /= (tv_real_t)n;
+    for (j = 0; j < n; ++j) {
+        sgg += (g[j] - gm) * (g[j] - gm);
+        sga += (g[j] - gm) * (a_rad[j] - am) * dir;
+    }
+    if (!(sgg > TV_R(0.0))) {
+        return TV_ERR_CONFIG;
+    }
+    c = sga / sgg; /* k^(-1/e) */
+    kk = c > TV_R(0.0) ? powp(c, -e) : k_max;
+    kk = kk > k_max ? k_max : (kk < k_min ? k_min : kk);
+    c = powp(kk, -TV_R(1.0) / e);
+    *k = kk;
+    *a0_rad = am - dir * c * gm;
+    return TV_OK;
+}
+
+/* Net torque of level j [N m]. */
+static tv_real_t level_torque(const sl_config_t *c, unsigned j)
+{
+    return j + 1u < SL_LEVELS ? c->level_Nm[j] : c->hold_Nm;
+}
+
+/* Fit stop s (0 closed, 1 open) from its rest angles; 0 on failure. */
+static int fit_stop(sl_t *sl, unsigned s, tv_real_t *a0)
+{
+    tv_real_t F[SL_LEVELS];
+    unsigned j;
+    for (j = 0; j < SL_LEVELS; ++j) {
+        F[j] = level_torque(&sl->cfg, j);
+    }
+    return sl_contact_fit(F, sl->rest_rad[s], SL_LEVELS, s == 0u ? TV_R(-1.0) : TV_R(1.0), sl->cfg.contact_exponent,
+                          sl->cfg.k_min, sl->cfg.k_max, a0, &sl->k_fit[s]) == TV_OK;
+}
+
 /* A stop was measured at phi: record it, move on (or finish with the plausibility checks). */
 static void stop_measured(sl_t *sl, tv_real_t phi)
 {
@@ -136,6 +216,10 @@ static void stop_measured(sl_t *sl, tv_real_t phi)
             return;
         }
         sl->phi_closed_rad = phi;
+        if (!fit_stop(sl, 0u, &sl->onset_closed_rad)) {
+            (void)fail(sl, SL_ERR_IMPLAUSIBLE_CLOSED);
+            return;
+        }
         sl->phase = SL_OPEN;
         sl->n_phase = 0u;
         sl->stage = STAGE_SEEK;
@@ -152,6 +236,11 @@ static void stop_measured(sl_t *sl, tv_real_t phi)
         return;
     }
     sl->phi_open_rad = phi;
+    if (!fit_stop(sl, 1u, &sl->onset_open_rad)) {
+        (void)fail(sl, SL_ERR_IMPLAUSIBLE_OPEN);
+        return;
+    }
+    sl->k_stop = TV_SQRT(sl->k_fit[0] * sl->k_fit[1]);
     sl->phase = SL_DONE;
 }
 
@@ -220,24 +309,42 @@ tv_real_t sl_step(sl_t *sl, tv_real_t phi)
              * it (or jammed: the plausibility windows tell) */
             if (sl->n_sat >= sl->blk_n && sl->blk_max - sl->blk_min < c->still_rad) {
                 sl->stage = STAGE_SETTLE;
-                sl->u_hold_V = clampv(v_per_Nm * (spring_Nm(p, mean) + dir * c->hold_Nm), c->push_V);
+                sl->level = 0u;
+                sl->contact_phi_rad = mean;
+                sl->u_hold_V = clampv(v_per_Nm * (spring_Nm(p, mean) + dir * level_torque(c, 0u)), c->push_V);
             }
             block_reset(sl);
         }
         return clampv(u, c->push_V);
     }
-    if (block_add(sl, phi)) {
-        const tv_real_t mean = sl->blk_sum / (tv_real_t)sl->blk_n;
-        const int still = sl->blk_max - sl->blk_min < c->still_rad;
-        block_reset(sl);
-        if (sl->stage == STAGE_SETTLE) {
-            sl->stage = STAGE_MEASURE;
-        } else if (still) {
-            stop_measured(sl, mean);
-            return sl_running(sl) ? sl->u_hold_V : TV_R(0.0);
+    {
+        /* settling: a square dither around the level's voltage shakes the plate free of
+         * stiction, so it comes to rest where the stop balances the level's torque */
+        const int dither_on = sl->stage == STAGE_SETTLE && sl->blk_n + c->dither_half_ms * 2u <= c->block_ms;
+        const tv_real_t dither_V = v_per_Nm * c->dither_Nm;
+        const tv_real_t dither = dither_on ? (((sl->blk_n / c->dither_half_ms) & 1u) != 0u ? -dither_V : dither_V)
+                                           : TV_R(0.0);
+        if (block_add(sl, phi)) {
+            const tv_real_t mean = sl->blk_sum / (tv_real_t)sl->blk_n;
+            const int still = sl->blk_max - sl->blk_min < c->still_rad;
+            block_reset(sl);
+            if (sl->stage == STAGE_SETTLE) {
+                sl->stage = STAGE_MEASURE;
+            } else if (still) {
+                sl->rest_rad[sl->phase == SL_CLOSED ? 0 : 1][sl->level] = mean;
+                if (sl->level + 1u < SL_LEVELS) {
+                    ++sl->level;
+                    sl->stage = STAGE_SETTLE;
+                    sl->u_hold_V = clampv(v_per_Nm * (spring_Nm(p, sl->contact_phi_rad) + dir * level_torque(c, sl->level)),
+                                          c->push_V);
+                    return sl->u_hold_V;
+                }
+                stop_measured(sl, mean);
+                return sl_running(sl) ? sl->u_hold_V : TV_R(0.0);
+            }
         }
+        return clampv(sl->u_hold_V + dither, c->push_V);
     }
-    return sl->u_hold_V;
 }
 
 const char *sl_phase_name(sl_phase_t ph)

@@ -49,6 +49,9 @@ extern "C" {
 /** Largest block length [samples] (bounds the work of a step: none, a block is O(1) per sample). */
 #define SL_BLOCK_MAX 1000u
 
+/** Net-torque levels at which each stop's rest angle is measured (the last one is hold_Nm). */
+#define SL_LEVELS 3u
+
 /** Phases. */
 typedef enum {
     SL_IDLE = 0,     /**< not started */
@@ -85,6 +88,16 @@ typedef struct {
     tv_real_t closed_min_rad, closed_max_rad; /**< plausible closed stop; default -0.30 .. -0.02 (limp-home, 0, is not a stop) */
     tv_real_t open_min_rad, open_max_rad;     /**< plausible open stop; default 1.10 .. 1.70 */
     tv_real_t travel_min_rad, travel_max_rad; /**< plausible open - closed; default 1.20 .. 1.80 */
+    /* the contact law (README "Stop contact"): rest angles at SL_LEVELS net torques, highest
+     * first, the plate shaken free of stiction by a square dither before each measurement */
+    tv_real_t level_Nm[SL_LEVELS - 1u]; /**< the levels above hold_Nm, descending, > hold_Nm; default 0.6, 0.35 */
+    tv_real_t dither_Nm;       /**< square torque dither while settling at a level, >= 0; default 0.3 (~ stiction) */
+    uint32_t dither_half_ms;   /**< dither half period [samples], >= 1; default 5 (100 Hz) */
+    tv_real_t contact_exponent; /**< Hunt-Crossley exponent the fit assumes, [1, 3]; default 1.25 */
+    tv_real_t k_min, k_max;    /**< bounds of the fitted stiffness [N m/rad^e]; default 450 .. 4.5e4
+                                    (1e2 .. 1e4 N m/rad secant at 2.5 mrad); k_max is also what a
+                                    stop too stiff for the sensor to resolve gets */
+    tv_real_t lambda_per_k_s_rad; /**< contact damping lambda = this x k [s/rad]; default 0.16 */
 } sl_config_t;
 
 /** Routine state (caller-owned). */
@@ -108,7 +121,25 @@ typedef struct {
     tv_real_t phi_closed_rad;  /**< learned closed stop (valid in SL_OPEN, SL_DONE) */
     tv_real_t phi_open_rad;    /**< learned open stop (valid in SL_DONE) */
     uint32_t n_total;          /**< samples since sl_start() */
+    /* the contact law */
+    uint8_t level;             /**< level being measured at this stop, 0..SL_LEVELS-1 */
+    tv_real_t contact_phi_rad; /**< mean angle of the contact block (spring feed-forward) */
+    tv_real_t rest_rad[2][SL_LEVELS]; /**< rest angles [closed/open][level] [rad] */
+    tv_real_t onset_closed_rad; /**< fitted contact onset, closed stop (valid in SL_DONE) */
+    tv_real_t onset_open_rad;   /**< fitted contact onset, open stop (valid in SL_DONE) */
+    tv_real_t k_fit[2];         /**< fitted stiffness per stop [N m/rad^e] */
+    tv_real_t k_stop;           /**< the model's stiffness: geometric mean of k_fit (valid in SL_DONE) */
 } sl_t;
+
+/**
+ * Fit of one stop's contact law from rest angles a[j] at net torques F[j] (j < n, n >= 2,
+ * distinct F): a = a0 + dir (F / k)^(1/e) (dir = -1 closed, +1 open), least squares in
+ * (a0, k^(-1/e)), k held in [k_min, k_max] (a slope the sensor cannot resolve, or of the wrong
+ * sign, gives k_max) and a0 refitted for the held k. Pure; exposed for tests.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (n < 2, e outside [1, 3], bad bounds, F not > 0 or all equal).
+ */
+int sl_contact_fit(const tv_real_t *F_Nm, const tv_real_t *a_rad, unsigned n, tv_real_t dir, tv_real_t e,
+                   tv_real_t k_min, tv_real_t k_max, tv_real_t *a0_rad, tv_real_t *k);
 
 /** Defaults documented in sl_config_t. */
 void sl_config_default(sl_config_t *cfg);

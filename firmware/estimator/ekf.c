@@ -651,6 +651,25 @@ int ekf_set_stops(ekf_t *ekf, tv_real_t phi_closed_rad, tv_real_t phi_open_rad)
     return TV_OK;
 }
 
+int ekf_set_contact_law(ekf_t *ekf, tv_real_t k_stop, tv_real_t exponent, tv_real_t d_stop)
+{
+    tvm_params_t p;
+    tvm_t m;
+    int rc;
+    if (ekf == NULL) {
+        return TV_ERR_NULL;
+    }
+    p = ekf->model.p;
+    p.k_stop_Nm_rad = k_stop;
+    p.stop_exponent = exponent;
+    p.d_stop_Nm_s_rad = d_stop;
+    rc = tvm_init(&m, &p);
+    if (rc == TV_OK) {
+        ekf->model = m;
+    }
+    return rc;
+}
+
 void ekf_stops(const ekf_t *ekf, tv_real_t *phi_closed_rad, tv_real_t *phi_open_rad)
 {
     *phi_closed_rad = ekf->model.p.phi_closed_rad;

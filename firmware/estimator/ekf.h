@@ -254,6 +254,14 @@ int ekf_set_stops(ekf_t *ekf, tv_real_t phi_closed_rad, tv_real_t phi_open_rad);
  */
 void ekf_contact_torque(const ekf_t *ekf, tv_real_t *d_Nm, tv_real_t *sigma_Nm);
 
+/**
+ * Replace the stop contact law of the filter's model (a learned law: stop_learn.h): stiffness k
+ * [N m/rad^e], exponent (0 = Kelvin-Voigt, else Hunt-Crossley in [1, 3]) and damping.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE; TV_ERR_CONFIG (tvm_init() refuses it). On error
+ *         nothing changes.
+ */
+int ekf_set_contact_law(ekf_t *ekf, tv_real_t k_stop, tv_real_t exponent, tv_real_t d_stop);
+
 /** The filter's health record (counters since ekf_init()). */
 void ekf_health(const ekf_t *ekf, ekf_health_t *h);
 

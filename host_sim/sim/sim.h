@@ -206,6 +206,9 @@ typedef struct {
     int stop_learn_error;            /**< sl_error_t at the end */
     double stop_learn_closed_rad;    /**< learned closed stop [rad] (NaN unless SL_DONE) */
     double stop_learn_open_rad;      /**< learned open stop [rad] (NaN unless SL_DONE) */
+    double stop_learn_onset_closed_rad; /**< fitted contact onset, closed stop [rad] (NaN unless SL_DONE) */
+    double stop_learn_onset_open_rad;   /**< fitted contact onset, open stop [rad] (NaN unless SL_DONE) */
+    double stop_learn_k;             /**< fitted contact stiffness [N m/rad^e] (NaN unless SL_DONE) */
     double stop_learn_s;             /**< time the routine ran [s] */
     double stop_contact_speed_max;   /**< largest plant velocity INTO a stop [rad/s] at a tick whose plant
                                           angle was within SIM_CONTACT_NEAR_RAD of that stop or beyond it,
