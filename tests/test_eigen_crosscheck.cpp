@@ -99,6 +99,7 @@ tvm_params_t to_c(const tvref::Params& p)
     c.phi_open_rad = static_cast<tv_real_t>(p.phi_open_rad);
     c.k_stop_Nm_rad = static_cast<tv_real_t>(p.k_stop_Nm_rad);
     c.d_stop_Nm_s_rad = static_cast<tv_real_t>(p.d_stop_Nm_s_rad);
+    c.stop_exponent = static_cast<tv_real_t>(0.0); /* the reference's law is Kelvin-Voigt (the C default) */
     c.e_phi_rad = static_cast<tv_real_t>(p.e_phi_rad);
     c.e_w_rad_s = static_cast<tv_real_t>(p.e_w_rad_s);
     c.Ts_s = static_cast<tv_real_t>(p.Ts_s);
@@ -147,6 +148,7 @@ void test_c_param_defaults_match_documentation()
              {"phi_open_rad", c.phi_open_rad, r.phi_open_rad},
              {"k_stop_Nm_rad", c.k_stop_Nm_rad, r.k_stop_Nm_rad},
              {"d_stop_Nm_s_rad", c.d_stop_Nm_s_rad, r.d_stop_Nm_s_rad},
+             {"stop_exponent (0 = Kelvin-Voigt, the reference's law)", c.stop_exponent, 0.0},
              {"e_phi_rad", c.e_phi_rad, r.e_phi_rad},
              {"e_w_rad_s", c.e_w_rad_s, r.e_w_rad_s},
              {"Ts_s", c.Ts_s, r.Ts_s}};
