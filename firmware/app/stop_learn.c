@@ -139,12 +139,6 @@ static tv_real_t fail(sl_t *sl, sl_error_t e)
     return TV_R(0.0);
 }
 
-/* x^y for x > 0 */
-static tv_real_t powp(tv_real_t x, tv_real_t y)
-{
-    return TV_EXP(y * TV_LOG(x));
-}
-
 int sl_contact_fit(const tv_real_t *F_Nm, const tv_real_t *a_rad, unsigned n, tv_real_t dir, tv_real_t e,
                    tv_real_t k_min, tv_real_t k_max, tv_real_t *a0_rad, tv_real_t *k)
 {
@@ -166,7 +160,7 @@ int sl_contact_fit(const tv_real_t *F_Nm, const tv_real_t *a_rad, unsigned n, tv
         if (!(F_Nm[j] > TV_R(0.0)) || !TV_IS_FINITE(a_rad[j])) {
             return TV_ERR_CONFIG;
         }
-        g[j] = powp(F_Nm[j], TV_R(1.0) / e); /* penetration = (F / k)^(1/e) = k^(-1/e) g */
+        g[j] = TV_POWP(F_Nm[j], TV_R(1.0) / e); /* penetration = (F / k)^(1/e) = k^(-1/e) g */
         gm += g[j];
         am += a_rad[j];
     }
@@ -180,9 +174,9 @@ int sl_contact_fit(const tv_real_t *F_Nm, const tv_real_t *a_rad, unsigned n, tv
         return TV_ERR_CONFIG;
     }
     c = sga / sgg; /* k^(-1/e) */
-    kk = c > TV_R(0.0) ? powp(c, -e) : k_max;
+    kk = c > TV_R(0.0) ? TV_POWP(c, -e) : k_max;
     kk = kk > k_max ? k_max : (kk < k_min ? k_min : kk);
-    c = powp(kk, -TV_R(1.0) / e);
+    c = TV_POWP(kk, -TV_R(1.0) / e);
     *k = kk;
     *a0_rad = am - dir * c * gm;
     return TV_OK;

@@ -123,7 +123,7 @@ static tv_real_t stop_torque(const tvm_t *m, tv_real_t phi, tv_real_t w, tv_real
         const tv_real_t s = phi < m->p.phi_closed_rad ? TV_R(1.0) : TV_R(-1.0);
         const tv_real_t p = phi < m->p.phi_closed_rad ? m->p.phi_closed_rad - phi : phi - m->p.phi_open_rad;
         if (p > TV_R(0.0)) {
-            const tv_real_t pe = TV_EXP(e * TV_LOG(p));
+            const tv_real_t pe = TV_POWP(p, e);
             const tv_real_t f = k - s * d * w;
             if (f > TV_R(0.0)) {
                 torque = s * pe * f;

@@ -36,6 +36,8 @@ typedef float tv_real_t;
 #endif
 
 /** True when v is neither NaN nor infinite (works without relying on isfinite's type-generic macro). */
+/** x^y for x > 0 as exp(y log x): the one power the firmware uses (contact law, its fit). */
+#define TV_POWP(x, y) TV_EXP((y) * TV_LOG(x))
 #define TV_IS_FINITE(v) (((v) == (v)) && ((v) - (v) == TV_R(0.0)))
 
 #ifdef __cplusplus
