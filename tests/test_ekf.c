@@ -230,6 +230,119 @@ static void test_contact_torque_state(void)
 }
 #endif
 
+/*
+ * Contact covariance inflation (ekf_config_t::contact_nis_gate): in the contact band an angle
+ * innovation of NIS 100 is met with the torque noise (white torque over one period, the shape
+ * [[Ts, Ts^2/2], [Ts^2/2, Ts^3/3]] on (w, phi)) that brings the NIS to the gate; the update is
+ * then the plain Kalman update on that P, checked against the formulas written out here. Outside the band, below the gate, or with the gate 0: no inflation.
+ */
+static void run_inflation_case(double phi0, double gate, double nis_target, double *nis_seen, uint32_t *n_inflate,
+                               double x_expect[3], double x_seen[3])
+{
+    tvm_params_t p;
+    ekf_config_t cfg;
+    ekf_t f;
+    ekf_meas_t m;
+    ekf_innov_t res;
+    ekf_health_t h;
+    tv_real_t xs[TVM_NX];
+    tv_real_t Ps[TVM_NX][TVM_NX];
+    double P[3][3];
+    double x[3];
+    double r;
+    double y;
+    double a;
+    int i;
+    int j;
+    tvm_params_default(&p);
+    ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
+    cfg.contact_band_rad = TV_R(0.005);
+    cfg.contact_nis_gate = (tv_real_t)gate;
+    cfg.x0[TVM_I] = TV_R(0.0);
+    cfg.x0[TVM_W] = TV_R(0.0);
+    cfg.x0[TVM_PHI] = (tv_real_t)phi0;
+    cfg.P0[0][0] = TV_R(1e-4);
+    cfg.P0[1][1] = TV_R(0.5);
+    cfg.P0[2][2] = TV_R(1e-7);
+    cfg.P0[0][1] = cfg.P0[1][0] = TV_R(1e-3);
+    cfg.P0[1][2] = cfg.P0[2][1] = TV_R(1e-4);
+    cfg.P0[0][2] = cfg.P0[2][0] = TV_R(1e-6);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    TV_CHECK_EQ_INT(ekf_predict(&f, TV_R(0.0)), TV_OK);
+    ekf_state(&f, xs);
+    ekf_covariance(&f, Ps);
+    for (i = 0; i < 3; ++i) {
+        x[i] = (double)xs[i];
+        for (j = 0; j < 3; ++j) {
+            P[i][j] = (double)Ps[i][j];
+        }
+    }
+    r = (double)cfg.r[EKF_CH_ANGLE];
+    y = sqrt(nis_target * (P[2][2] + r));
+    m.z[EKF_CH_CURRENT] = xs[TVM_I];
+    m.z[EKF_CH_VELOCITY] = TV_R(0.0);
+    m.z[EKF_CH_ANGLE] = (tv_real_t)(x[2] + y);
+    TV_CHECK_EQ_INT(ekf_correct_channels(&f, &m, EKF_CH_BIT(EKF_CH_ANGLE), &res), TV_OK);
+    *nis_seen = (double)res.nis[EKF_CH_ANGLE];
+    ekf_health(&f, &h);
+    *n_inflate = h.n_inflate;
+    /* expected: with q chosen so that y^2 / (P_pp + q Ts^3/3 + r) = gate when it exceeds it,
+     * P_ww += q Ts, P_wp += q Ts^2/2, P_pp += q Ts^3/3; then the scalar update
+     * K = P e_phi / (P_pp + r), x <- x + K y */
+    a = 0.0;
+    if (gate > 0.0 && y * y > gate * (P[2][2] + r) && f.in_contact) {
+        const double Ts = (double)p.Ts_s;
+        a = (y * y / gate - r - P[2][2]) / (Ts * Ts * Ts / 3.0); /* q */
+        P[1][1] += a * Ts;
+        P[1][2] += a * Ts * Ts / 2.0;
+        P[2][1] = P[1][2];
+        P[2][2] += a * Ts * Ts * Ts / 3.0;
+    }
+    {
+        double s;
+        s = P[2][2] + r;
+        for (i = 0; i < 3; ++i) {
+            x_expect[i] = x[i] + P[i][2] / s * y;
+        }
+    }
+    ekf_state(&f, xs);
+    for (i = 0; i < 3; ++i) {
+        x_seen[i] = (double)xs[i];
+    }
+}
+
+static void test_contact_inflation(void)
+{
+    tvm_params_t p;
+    double nis;
+    uint32_t n;
+    double xe[3];
+    double xs[3];
+    int i;
+    tvm_params_default(&p);
+    /* 2 mrad inside the closed stop's band, NIS 100 against the gate 9 */
+    run_inflation_case((double)p.phi_closed_rad + 0.002, 9.0, 100.0, &nis, &n, xe, xs);
+    TV_CHECK_NEAR(nis, 9.0, 9.0 * (TV_REAL_IS_DOUBLE ? 1e-9 : 1e-3));
+    TV_CHECK_EQ_INT((int)n, 1);
+    for (i = 0; i < 3; ++i) {
+        TV_CHECK_NEAR(xs[i], xe[i], 1e-9 + fabs(xe[i]) * (TV_REAL_IS_DOUBLE ? 1e-9 : 1e-4));
+    }
+    /* the same innovation at mid travel: no inflation, NIS 100 reported */
+    run_inflation_case(0.5, 9.0, 100.0, &nis, &n, xe, xs);
+    TV_CHECK_NEAR(nis, 100.0, 100.0 * (TV_REAL_IS_DOUBLE ? 1e-9 : 1e-3));
+    TV_CHECK_EQ_INT((int)n, 0);
+    /* in the band below the gate, and with the gate off */
+    run_inflation_case((double)p.phi_closed_rad + 0.002, 9.0, 4.0, &nis, &n, xe, xs);
+    TV_CHECK_NEAR(nis, 4.0, 4.0 * (TV_REAL_IS_DOUBLE ? 1e-9 : 1e-3));
+    TV_CHECK_EQ_INT((int)n, 0);
+    run_inflation_case((double)p.phi_closed_rad + 0.002, 0.0, 100.0, &nis, &n, xe, xs);
+    TV_CHECK_NEAR(nis, 100.0, 100.0 * (TV_REAL_IS_DOUBLE ? 1e-9 : 1e-3));
+    TV_CHECK_EQ_INT((int)n, 0);
+    for (i = 0; i < 3; ++i) {
+        TV_CHECK_NEAR(xs[i], xe[i], 1e-9 + fabs(xe[i]) * (TV_REAL_IS_DOUBLE ? 1e-9 : 1e-4));
+    }
+}
+
 static void test_bad_input_is_rejected_and_state_unchanged(void)
 {
     const tv_real_t zero = TV_R(0.0);
@@ -731,6 +844,7 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_locally_observable_in_both_setups);
     TV_TEST_RUN(test_contact_torque_state);
 #endif
+    TV_TEST_RUN(test_contact_inflation);
     TV_TEST_RUN(test_converges_from_a_wrong_initial_state);
     if (s_soak_steps > 0) {
         TV_TEST_RUN(test_covariance_stays_symmetric_positive_definite);

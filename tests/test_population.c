@@ -225,10 +225,11 @@ static void test_stops_are_learned_outward_only(void)
         ekf_stops(&e, &lo, &hi2);
         TV_CHECK_NEAR((double)hi2, (double)hi, 0.0);
     }
-    /* off by default: the stops are the model's */
+    /* off by default: the stops are the model's (or the start-up routine's); the contact band
+     * is on, for the covariance inflation, with no contact noise */
     ekf_config_default(&c, EKF_SETUP_CURRENT_ANGLE);
     TV_CHECK_NEAR((double)c.stop_learn_margin_rad, 0.0, 0.0);
-    TV_CHECK_NEAR((double)c.contact_band_rad, 0.0, 0.0);
+    TV_CHECK_NEAR((double)c.qc_Nm2_s, 0.0, 0.0);
 }
 
 /*

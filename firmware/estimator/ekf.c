@@ -151,6 +151,7 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->qd_free_Nm2_s = EKF_DEFAULT_QD_FREE_NM2_S;
     cfg->d_tau_s = EKF_DEFAULT_D_TAU_S;
     cfg->d_var_ceil = TV_R(1e4);
+    cfg->contact_nis_gate = EKF_DEFAULT_CONTACT_NIS_GATE;
 }
 
 void ekf_config_paper(ekf_config_t *cfg)
@@ -176,6 +177,7 @@ void ekf_config_paper(ekf_config_t *cfg)
     cfg->stop_learn_margin_rad = TV_R(0.0);
     cfg->qd_contact_Nm2_s = TV_R(0.0);
     cfg->qd_free_Nm2_s = TV_R(0.0);
+    cfg->contact_nis_gate = TV_R(0.0);
 }
 
 int ekf_q_from_spectral(const tvm_params_t *p, tv_real_t qu_V2_s, tv_real_t qT_Nm2_s,
@@ -224,7 +226,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->w_abs_max_rad_s) || !TV_IS_FINITE(cfg->phi_min_rad) ||
         !TV_IS_FINITE(cfg->phi_max_rad) || !TV_IS_FINITE(cfg->contact_band_rad) || !TV_IS_FINITE(cfg->qc_Nm2_s) ||
         !TV_IS_FINITE(cfg->stop_learn_margin_rad) || !TV_IS_FINITE(cfg->qd_contact_Nm2_s) ||
-        !TV_IS_FINITE(cfg->qd_free_Nm2_s) || !TV_IS_FINITE(cfg->d_tau_s) || !TV_IS_FINITE(cfg->d_var_ceil)) {
+        !TV_IS_FINITE(cfg->qd_free_Nm2_s) || !TV_IS_FINITE(cfg->d_tau_s) || !TV_IS_FINITE(cfg->d_var_ceil) ||
+        !TV_IS_FINITE(cfg->contact_nis_gate)) {
         return TV_ERR_NONFINITE;
     }
     if (cfg->setup != EKF_SETUP_CURRENT_ANGLE && cfg->setup != EKF_SETUP_PAPER_3MEAS) {
@@ -245,7 +248,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         cfg->contact_band_rad < TV_R(0.0) || cfg->contact_band_rad > TV_R(0.5) || cfg->qc_Nm2_s < TV_R(0.0) ||
         cfg->stop_learn_margin_rad < TV_R(0.0) || cfg->stop_learn_margin_rad > TV_R(0.5) ||
         cfg->qd_contact_Nm2_s < TV_R(0.0) || cfg->qd_free_Nm2_s < TV_R(0.0) || !(cfg->d_tau_s > TV_R(0.0)) ||
-        !(cfg->d_var_ceil > TV_R(0.0))) {
+        !(cfg->d_var_ceil > TV_R(0.0)) || cfg->contact_nis_gate < TV_R(0.0)) {
         return TV_ERR_CONFIG;
     }
     if (!is_symmetric(&cfg->P0[0][0]) || !principal_minors_ok(&cfg->P0[0][0], 1) ||
@@ -369,6 +372,7 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
     ekf->Pdd = Pdd;
     ekf->d = d;
     ++ekf->n_predict;
+    ekf->in_contact = contact;
     if (contact) {
         ++ekf->n_contact;
     }
@@ -508,6 +512,34 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, dist_part_t *dp, int j, 
     return 1;
 }
 
+/*
+ * Contact covariance inflation (ekf_config_t::contact_nis_gate). With y = z - phi and
+ * s = P_pp + r, when y^2 / s > gate the contact law missed a torque over the last period: the
+ * covariance gets the torque noise that explains the innovation at the gate, in the shape of
+ * ekf_q_from_spectral()'s plate block (white torque integrated over Ts),
+ *   P_pp += D,  P_wp += D 3 / (2 Ts),  P_ww += D 3 / Ts^2,   D = y^2 / gate - s,
+ * which is positive semidefinite (the shape of [[Ts, Ts^2/2], [Ts^2/2, Ts^3/3]]), so the NIS of
+ * this update is the gate, and the velocity correction is the one a torque impulse over one
+ * period implies (not the far larger one the linearised stiff stop would). Returns 1 when it
+ * inflated.
+ */
+static int inflate_at_contact(const tv_real_t x[TVM_NX], mat3_t P, tv_real_t z, tv_real_t r, tv_real_t gate,
+                              tv_real_t Ts)
+{
+    const tv_real_t y = z - x[TVM_PHI];
+    const tv_real_t s = P[TVM_PHI][TVM_PHI] + r;
+    tv_real_t D;
+    if (!(y * y > gate * s)) {
+        return 0;
+    }
+    D = y * y / gate - s;
+    P[TVM_PHI][TVM_PHI] += D;
+    P[TVM_W][TVM_PHI] += D * TV_R(1.5) / Ts;
+    P[TVM_PHI][TVM_W] = P[TVM_W][TVM_PHI];
+    P[TVM_W][TVM_W] += D * TV_R(3.0) / (Ts * Ts);
+    return 1;
+}
+
 int ekf_correct(ekf_t *ekf, const ekf_meas_t *meas, ekf_innov_t *out)
 {
     return ekf_correct_channels(ekf, meas, EKF_CH_BIT(EKF_CH_CURRENT) | EKF_CH_BIT(EKF_CH_VELOCITY) | EKF_CH_BIT(EKF_CH_ANGLE),
@@ -522,6 +554,7 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     mat3_t P;
     dist_part_t dp;
     uint8_t use[EKF_NCH];
+    uint32_t n_inflate = 0u;
     int ch;
     if (ekf == NULL || meas == NULL) {
         if (out != NULL) {
@@ -560,6 +593,10 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     dp.Pdd = ekf->Pdd;
     for (ch = 0; ch < EKF_NCH; ++ch) {
         if (use[ch]) {
+            if (ch == EKF_CH_ANGLE && ekf->in_contact && ekf->cfg.contact_nis_gate > TV_R(0.0) &&
+                inflate_at_contact(x, P, meas->z[ch], ekf->cfg.r[ch], ekf->cfg.contact_nis_gate, ekf->model.p.Ts_s)) {
+                ++n_inflate;
+            }
             if (!scalar_update(x, P, ekf->d_on ? &dp : NULL, channel_state[ch], meas->z[ch], ekf->cfg.r[ch], &res.innov[ch],
                                &res.innov_var[ch])) {
                 ++ekf->n_rejected;
@@ -594,6 +631,7 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     if (res.n_used > 0u) {
         ++ekf->n_correct;
     }
+    ekf->n_inflate += n_inflate;
     if (res.used[EKF_CH_ANGLE] && ekf->cfg.stop_learn_margin_rad > TV_R(0.0)) {
         /* stops learned outward: the plate was seen beyond a stop, so that stop is at least
          * there (monotone: phi_closed only falls, phi_open only rises, so the model's ordering
@@ -686,6 +724,7 @@ void ekf_health(const ekf_t *ekf, ekf_health_t *h)
 {
     h->n_contact = ekf->n_contact;
     h->n_stop_moves = ekf->n_stop_moves;
+    h->n_inflate = ekf->n_inflate;
     h->n_predict = ekf->n_predict;
     h->n_correct = ekf->n_correct;
     h->n_rejected = ekf->n_rejected;
