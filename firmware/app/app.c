@@ -385,10 +385,10 @@ static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
             if (app->sl.phase == SL_DONE) {
                 /* the fitted contact onsets and law go to the estimator (README "Stop contact") */
                 if (app_set_stops(app, app->sl.onset_closed_rad, app->sl.onset_open_rad) == TV_OK &&
-                    ekf_set_contact_law(&app->ekf, app->sl.k_stop, app->sl.cfg.contact_exponent,
+                    ekf_set_contact_law(&app->ekf, app->sl.k_stop, app->sl.exponent,
                                         app->sl.cfg.lambda_per_k_s_rad * app->sl.k_stop) == TV_OK) {
                     app->cfg.model.k_stop_Nm_rad = app->sl.k_stop;
-                    app->cfg.model.stop_exponent = app->sl.cfg.contact_exponent;
+                    app->cfg.model.stop_exponent = app->sl.exponent;
                     app->cfg.model.d_stop_Nm_s_rad = app->sl.cfg.lambda_per_k_s_rad * app->sl.k_stop;
                 }
             }

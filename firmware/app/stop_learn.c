@@ -37,14 +37,18 @@ void sl_config_default(sl_config_t *cfg)
     cfg->open_max_rad = TV_R(1.70);
     cfg->travel_min_rad = TV_R(1.20);
     cfg->travel_max_rad = TV_R(1.80);
-    cfg->level_Nm[0] = TV_R(0.6);
-    cfg->level_Nm[1] = TV_R(0.35);
+    cfg->level_Nm[0] = TV_R(0.7);
+    cfg->level_Nm[1] = TV_R(0.45);
+    cfg->level_Nm[2] = TV_R(0.3);
     cfg->dither_Nm = TV_R(0.3);
     cfg->dither_half_ms = 5u;
-    cfg->contact_exponent = TV_R(1.25);
-    cfg->k_min = TV_R(450.0);
-    cfg->k_max = TV_R(4.5e4);
+    cfg->e_min = TV_R(1.0);
+    cfg->e_max = TV_R(2.0);
+    cfg->k_min = TV_R(100.0);
+    cfg->k_max = TV_R(1.0e4);
     cfg->lambda_per_k_s_rad = TV_R(0.16);
+    cfg->level_V_max = TV_R(10.0);
+    cfg->preload_Nm = TV_R(0.6);
 }
 
 static int finite_pos(tv_real_t v)
@@ -58,7 +62,8 @@ static int config_ok(const sl_config_t *c)
                               c->kd_V_s_rad, c->still_rad, c->lead_rad, c->ki_V_rad_s, c->timeout_s,
                               c->closed_min_rad, c->closed_max_rad, c->open_min_rad, c->open_max_rad,
                               c->travel_min_rad, c->travel_max_rad, c->level_Nm[0], c->level_Nm[1],
-                              c->dither_Nm, c->contact_exponent, c->k_min, c->k_max, c->lambda_per_k_s_rad};
+                              c->level_Nm[2], c->dither_Nm, c->e_min, c->e_max, c->k_min, c->k_max, c->lambda_per_k_s_rad,
+                              c->level_V_max, c->preload_Nm};
     size_t k;
     for (k = 0; k < sizeof vals / sizeof vals[0]; ++k) {
         if (!TV_IS_FINITE(vals[k])) {
@@ -70,10 +75,10 @@ static int config_ok(const sl_config_t *c)
            finite_pos(c->still_rad) && finite_pos(c->lead_rad) && c->ki_V_rad_s >= TV_R(0.0) && finite_pos(c->timeout_s) &&
            c->block_ms >= 10u && c->block_ms <= SL_BLOCK_MAX && c->closed_min_rad < c->closed_max_rad &&
            c->open_min_rad < c->open_max_rad && c->travel_min_rad < c->travel_max_rad &&
-           c->level_Nm[0] > c->level_Nm[1] && c->level_Nm[1] > c->hold_Nm && c->hold_Nm > TV_R(0.0) &&
-           c->dither_Nm >= TV_R(0.0) && c->dither_half_ms >= 1u && c->contact_exponent >= TV_R(1.0) &&
-           c->contact_exponent <= TV_R(3.0) && finite_pos(c->k_min) && c->k_max > c->k_min &&
-           c->lambda_per_k_s_rad >= TV_R(0.0);
+           c->level_Nm[0] > c->level_Nm[1] && c->level_Nm[1] > c->level_Nm[2] && c->level_Nm[2] > c->hold_Nm &&
+           c->hold_Nm > TV_R(0.0) && c->dither_Nm >= TV_R(0.0) && c->dither_half_ms >= 1u && c->e_min >= TV_R(1.0) &&
+           c->e_max >= c->e_min && c->e_max <= TV_R(3.0) && finite_pos(c->k_min) && c->k_max > c->k_min &&
+           c->lambda_per_k_s_rad >= TV_R(0.0) && c->level_V_max >= c->push_V && c->preload_Nm >= TV_R(0.0);
 }
 
 int sl_start(sl_t *sl, const sl_config_t *cfg, const tvm_params_t *model)
@@ -188,16 +193,51 @@ static tv_real_t level_torque(const sl_config_t *c, unsigned j)
     return j + 1u < SL_LEVELS ? c->level_Nm[j] : c->hold_Nm;
 }
 
-/* Fit stop s (0 closed, 1 open) from its rest angles; 0 on failure. */
-static int fit_stop(sl_t *sl, unsigned s, tv_real_t *a0)
+int sl_contact_fit_joint(const tv_real_t *F_Nm, const tv_real_t a_rad[2][SL_LEVELS], unsigned n, tv_real_t e_min,
+                         tv_real_t e_max, tv_real_t k_min, tv_real_t k_max, tv_real_t onset_rad[2], tv_real_t k[2],
+                         tv_real_t *e)
 {
-    tv_real_t F[SL_LEVELS];
-    unsigned j;
-    for (j = 0; j < SL_LEVELS; ++j) {
-        F[j] = level_torque(&sl->cfg, j);
+    tv_real_t best = TV_R(-1.0);
+    unsigned g;
+    if (F_Nm == NULL || a_rad == NULL || onset_rad == NULL || k == NULL || e == NULL) {
+        return TV_ERR_NULL;
     }
-    return sl_contact_fit(F, sl->rest_rad[s], SL_LEVELS, s == 0u ? TV_R(-1.0) : TV_R(1.0), sl->cfg.contact_exponent,
-                          sl->cfg.k_min, sl->cfg.k_max, a0, &sl->k_fit[s]) == TV_OK;
+    if (!(e_min >= TV_R(1.0)) || !(e_max >= e_min) || !(e_max <= TV_R(3.0))) {
+        return TV_ERR_CONFIG;
+    }
+    for (g = 0; g < SL_EXP_GRID; ++g) {
+        const tv_real_t eg = e_min + (e_max - e_min) * (tv_real_t)g / (tv_real_t)(SL_EXP_GRID - 1u);
+        tv_real_t a0[2];
+        tv_real_t kk[2];
+        tv_real_t sse = TV_R(0.0);
+        unsigned s;
+        for (s = 0; s < 2u; ++s) {
+            const tv_real_t dir = s == 0u ? TV_R(-1.0) : TV_R(1.0);
+            unsigned j;
+            /* the bounds are secant stiffnesses at SL_P_REF_RAD: k p_ref^(e-1) in [k_min, k_max] */
+            const tv_real_t to_law = TV_POWP(SL_P_REF_RAD, TV_R(1.0) - eg);
+            const int rc = sl_contact_fit(F_Nm, a_rad[s], n, dir, eg, k_min * to_law, k_max * to_law, &a0[s], &kk[s]);
+            if (rc != TV_OK) {
+                return rc;
+            }
+            for (j = 0; j < n; ++j) {
+                const tv_real_t r = a_rad[s][j] - a0[s] - dir * TV_POWP(F_Nm[j] / kk[s], TV_R(1.0) / eg);
+                sse += r * r;
+            }
+        }
+        if (best < TV_R(0.0) || sse < best) {
+            best = sse;
+            onset_rad[0] = a0[0];
+            onset_rad[1] = a0[1];
+            k[0] = kk[0];
+            k[1] = kk[1];
+            *e = eg;
+        }
+        if (!(e_max > e_min)) {
+            break; /* a fixed exponent: one fit */
+        }
+    }
+    return TV_OK;
 }
 
 /* A stop was measured at phi: record it, move on (or finish with the plausibility checks). */
@@ -210,10 +250,6 @@ static void stop_measured(sl_t *sl, tv_real_t phi)
             return;
         }
         sl->phi_closed_rad = phi;
-        if (!fit_stop(sl, 0u, &sl->onset_closed_rad)) {
-            (void)fail(sl, SL_ERR_IMPLAUSIBLE_CLOSED);
-            return;
-        }
         sl->phase = SL_OPEN;
         sl->n_phase = 0u;
         sl->stage = STAGE_SEEK;
@@ -230,9 +266,20 @@ static void stop_measured(sl_t *sl, tv_real_t phi)
         return;
     }
     sl->phi_open_rad = phi;
-    if (!fit_stop(sl, 1u, &sl->onset_open_rad)) {
-        (void)fail(sl, SL_ERR_IMPLAUSIBLE_OPEN);
-        return;
+    {
+        tv_real_t F[SL_LEVELS];
+        tv_real_t onset[2];
+        unsigned j;
+        for (j = 0; j < SL_LEVELS; ++j) {
+            F[j] = level_torque(c, j);
+        }
+        if (sl_contact_fit_joint(F, (const tv_real_t(*)[SL_LEVELS])sl->rest_rad, SL_LEVELS, c->e_min, c->e_max, c->k_min,
+                                 c->k_max, onset, sl->k_fit, &sl->exponent) != TV_OK) {
+            (void)fail(sl, SL_ERR_IMPLAUSIBLE_OPEN);
+            return;
+        }
+        sl->onset_closed_rad = onset[0];
+        sl->onset_open_rad = onset[1];
     }
     sl->k_stop = TV_SQRT(sl->k_fit[0] * sl->k_fit[1]);
     sl->phase = SL_DONE;
@@ -305,7 +352,7 @@ tv_real_t sl_step(sl_t *sl, tv_real_t phi)
                 sl->stage = STAGE_SETTLE;
                 sl->level = 0u;
                 sl->contact_phi_rad = mean;
-                sl->u_hold_V = clampv(v_per_Nm * (spring_Nm(p, mean) + dir * level_torque(c, 0u)), c->push_V);
+                sl->u_hold_V = clampv(v_per_Nm * (spring_Nm(p, mean) + dir * level_torque(c, 0u)), c->level_V_max);
             }
             block_reset(sl);
         }
@@ -318,6 +365,10 @@ tv_real_t sl_step(sl_t *sl, tv_real_t phi)
         const tv_real_t dither_V = v_per_Nm * c->dither_Nm;
         const tv_real_t dither = dither_on ? (((sl->blk_n / c->dither_half_ms) & 1u) != 0u ? -dither_V : dither_V)
                                            : TV_R(0.0);
+        /* before the first level, a preload at the full level voltage: every level is then
+         * reached by UNLOADING (the plate moves out to its rest), whose rest angle friction does
+         * not bias; reached by loading, a rest angle is short by about the static friction */
+        const int preload = sl->stage == STAGE_SETTLE && sl->level == 0u && sl->blk_n < 2u * (c->block_ms / 4u);
         if (block_add(sl, phi)) {
             const tv_real_t mean = sl->blk_sum / (tv_real_t)sl->blk_n;
             const int still = sl->blk_max - sl->blk_min < c->still_rad;
@@ -330,14 +381,25 @@ tv_real_t sl_step(sl_t *sl, tv_real_t phi)
                     ++sl->level;
                     sl->stage = STAGE_SETTLE;
                     sl->u_hold_V = clampv(v_per_Nm * (spring_Nm(p, sl->contact_phi_rad) + dir * level_torque(c, sl->level)),
-                                          c->push_V);
+                                          c->level_V_max);
                     return sl->u_hold_V;
                 }
                 stop_measured(sl, mean);
                 return sl_running(sl) ? sl->u_hold_V : TV_R(0.0);
             }
         }
-        return clampv(sl->u_hold_V + dither, c->push_V);
+        if (preload) {
+            /* preload_Nm above the first level, a triangle over half a block (up a quarter, down a
+             * quarter): a soft stop is compressed and released slowly, never struck */
+            const uint32_t q = c->block_ms / 4u;
+            const tv_real_t frac = sl->blk_n < q ? (tv_real_t)sl->blk_n / (tv_real_t)q
+                                                 : (tv_real_t)(2u * q - sl->blk_n) / (tv_real_t)q;
+            const tv_real_t u_pre =
+                clampv(v_per_Nm * (spring_Nm(p, sl->contact_phi_rad) + dir * (level_torque(c, 0u) + c->preload_Nm)),
+                       c->level_V_max);
+            return sl->u_hold_V + frac * (u_pre - sl->u_hold_V);
+        }
+        return clampv(sl->u_hold_V + dither, c->level_V_max);
     }
 }
 

@@ -50,7 +50,13 @@ extern "C" {
 #define SL_BLOCK_MAX 1000u
 
 /** Net-torque levels at which each stop's rest angle is measured (the last one is hold_Nm). */
-#define SL_LEVELS 3u
+#define SL_LEVELS 4u
+
+/** Exponents the joint fit tries: e_min + j (e_max - e_min) / (SL_EXP_GRID - 1), j < SL_EXP_GRID. */
+#define SL_EXP_GRID 21u
+
+/** Penetration at which the stiffness bounds k_min, k_max are secant stiffnesses [rad]. */
+#define SL_P_REF_RAD TV_R(0.0025)
 
 /** Phases. */
 typedef enum {
@@ -90,14 +96,26 @@ typedef struct {
     tv_real_t travel_min_rad, travel_max_rad; /**< plausible open - closed; default 1.20 .. 1.80 */
     /* the contact law (README "Stop contact"): rest angles at SL_LEVELS net torques, highest
      * first, the plate shaken free of stiction by a square dither before each measurement */
-    tv_real_t level_Nm[SL_LEVELS - 1u]; /**< the levels above hold_Nm, descending, > hold_Nm; default 0.6, 0.35 */
+    tv_real_t level_Nm[SL_LEVELS - 1u]; /**< the levels above hold_Nm, descending, > hold_Nm; default 1.2, 0.6, 0.3
+                                              (a decade up to about the stall torque of open-loop 10 V: the
+                                              law is learned over the forces the stops see in service) */
     tv_real_t dither_Nm;       /**< square torque dither while settling at a level, >= 0; default 0.3 (~ stiction) */
     uint32_t dither_half_ms;   /**< dither half period [samples], >= 1; default 5 (100 Hz) */
-    tv_real_t contact_exponent; /**< Hunt-Crossley exponent the fit assumes, [1, 3]; default 1.25 */
-    tv_real_t k_min, k_max;    /**< bounds of the fitted stiffness [N m/rad^e]; default 450 .. 4.5e4
-                                    (1e2 .. 1e4 N m/rad secant at 2.5 mrad); k_max is also what a
-                                    stop too stiff for the sensor to resolve gets */
+    tv_real_t e_min, e_max;    /**< range of the Hunt-Crossley exponent the joint fit searches, 1 <= e_min <= e_max <= 3;
+                                    default 1.0 .. 2.0 (e_min = e_max: the exponent is fixed) */
+    tv_real_t k_min, k_max;    /**< bounds of the fitted stiffness as a SECANT stiffness at SL_P_REF_RAD,
+                                    k p_ref^(e-1) [N m/rad]; default 100 .. 1e4. k_max is also what a
+                                    stop too stiff for the sensor to resolve gets, and keeps the
+                                    model's contact stable at its integration step */
     tv_real_t lambda_per_k_s_rad; /**< contact damping lambda = this x k [s/rad]; default 0.16 */
+    tv_real_t level_V_max;     /**< |u| limit while the plate is held against a stop at a level,
+                                    >= push_V; default 10 (the plate already rests there: the
+                                    level's torque moves it by the stop's penetration only) */
+    tv_real_t preload_Nm;      /**< before the first level the net torque rises this far above it and
+                                    falls back (a triangle over half a block), so that every level is
+                                    reached by unloading, >= 0; default 0.6 (twice a typical static
+                                    friction: reached by loading, a rest angle is short by about the
+                                    static friction) */
 } sl_config_t;
 
 /** Routine state (caller-owned). */
@@ -129,6 +147,7 @@ typedef struct {
     tv_real_t onset_open_rad;   /**< fitted contact onset, open stop (valid in SL_DONE) */
     tv_real_t k_fit[2];         /**< fitted stiffness per stop [N m/rad^e] */
     tv_real_t k_stop;           /**< the model's stiffness: geometric mean of k_fit (valid in SL_DONE) */
+    tv_real_t exponent;         /**< the fitted exponent, common to both stops (valid in SL_DONE) */
 } sl_t;
 
 /**
@@ -140,6 +159,19 @@ typedef struct {
  */
 int sl_contact_fit(const tv_real_t *F_Nm, const tv_real_t *a_rad, unsigned n, tv_real_t dir, tv_real_t e,
                    tv_real_t k_min, tv_real_t k_max, tv_real_t *a0_rad, tv_real_t *k);
+
+/**
+ * Joint fit of both stops' contact laws with a common exponent: for each exponent of the grid
+ * e_min .. e_max (SL_EXP_GRID values; one value when e_min = e_max), sl_contact_fit() per stop,
+ * and the exponent with the smallest sum of squared residuals over both stops is kept. a[0][j]
+ * are the closed stop's rest angles, a[1][j] the open stop's, at net torques F[j]. Pure, bounded
+ * (SL_EXP_GRID x 2 fits); k_min, k_max are secant stiffnesses at SL_P_REF_RAD (for exponent e
+ * the law's k is held in [k_min, k_max] p_ref^(1-e)). Exposed for tests.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (as sl_contact_fit(), or a bad exponent range).
+ */
+int sl_contact_fit_joint(const tv_real_t *F_Nm, const tv_real_t a_rad[2][SL_LEVELS], unsigned n, tv_real_t e_min,
+                         tv_real_t e_max, tv_real_t k_min, tv_real_t k_max, tv_real_t onset_rad[2], tv_real_t k[2],
+                         tv_real_t *e);
 
 /** Defaults documented in sl_config_t. */
 void sl_config_default(sl_config_t *cfg);

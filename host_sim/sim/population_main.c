@@ -105,11 +105,35 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
     ac->model.phi_closed_rad = (tv_real_t)r.stop_learn_onset_closed_rad;
     ac->model.phi_open_rad = (tv_real_t)r.stop_learn_onset_open_rad;
     ac->model.k_stop_Nm_rad = (tv_real_t)r.stop_learn_k;
-    ac->model.stop_exponent = ac->stop_learn.contact_exponent;
+    ac->model.stop_exponent = (tv_real_t)r.stop_learn_exponent;
     ac->model.d_stop_Nm_s_rad = ac->stop_learn.lambda_per_k_s_rad * (tv_real_t)r.stop_learn_k;
     return TV_OK;
 }
 static params_t s_params;
+
+/* DIR/<section>_<unit>.params: the unit's filter configuration as a parameter file; 0 on success. */
+static int write_unit_params(const char *dir, const char *section, uint64_t unit, const app_config_t *ac)
+{
+    char path[CLI_PATH_MAX];
+    FILE *f;
+    int rc;
+    const int n = snprintf(path, sizeof path, "%s/%s_%llu.params", dir, section, (unsigned long long)unit);
+    if (n < 0 || (size_t)n >= sizeof path) {
+        fprintf(stderr, "%s: --params-out: path too long under %s\n", s_prog, dir);
+        return -1;
+    }
+    f = fopen(path, "w");
+    if (f == NULL) {
+        fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, path, strerror(errno));
+        return -1;
+    }
+    rc = params_write(f, ac, &s_params);
+    if (fclose(f) != 0 || rc != TV_OK) {
+        fprintf(stderr, "%s: write error on %s\n", s_prog, path);
+        return -1;
+    }
+    return 0;
+}
 
 static void usage(FILE *f)
 {
@@ -117,7 +141,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--scenarios A,B,...] [--duration S]\n"
             "          [--sections stops,all] [--params FILE] [--stop-learning on|off] [--json PATH]\n"
-            "          [--runs-csv PATH] [--quick] [--help]\n"
+            "          [--runs-csv PATH] [--params-out DIR] [--quick] [--help]\n"
             "\n"
             "Runs the application's estimator (double build) on a population of throttles\n"
             "(host_sim/plant/plant_draw.h) over a scenario mix and scores its velocity against\n"
@@ -145,6 +169,9 @@ static void usage(FILE *f)
             "                    its filter uses the learned stops, as an ECU with its stored values\n"
             "  --json PATH       summary (default out/population/summary.json)\n"
             "  --runs-csv PATH   also one line per run\n"
+            "  --params-out DIR  also write each unit's filter parameter file (after stop learning)\n"
+            "                    as DIR/<section>_<ID>.params: host_sim --unit ID --spread S\n"
+            "                    --params FILE then reruns one of its runs with the CSV trace\n"
             "  --quick           6 plants, 1 seed (a few seconds)\n"
             "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n");
 }
@@ -259,6 +286,7 @@ int main(int argc, char **argv)
     const char *params_path = NULL;
     const char *json_path = "out/population/summary.json";
     const char *runs_csv = NULL;
+    const char *params_out = NULL;
     unsigned n_runs[2] = {0u, 0u};
     double nominal_rmse = (double)NAN;
     FILE *f;
@@ -267,7 +295,7 @@ int main(int argc, char **argv)
     int sec;
     static const char *const takes_value[] = {"--plants", "--seeds", "--first-unit", "--scenarios", "--duration",
                                               "--sections", "--params", "--json", "--runs-csv", "--stop-learning",
-                                              NULL};
+                                              "--params-out", NULL};
     int stop_learning = 1;
 
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
@@ -356,6 +384,8 @@ int main(int argc, char **argv)
             }
         } else if (strcmp(a, "--json") == 0) {
             json_path = v;
+        } else if (strcmp(a, "--params-out") == 0) {
+            params_out = v;
         } else {
             runs_csv = v;
         }
@@ -369,6 +399,10 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: %s\n", s_prog, err);
             return rc == TV_ERR_IO ? 1 : 3;
         }
+    }
+    if (params_out != NULL && cli_make_dirs(params_out) != 0) {
+        fprintf(stderr, "%s: cannot create %s: %s\n", s_prog, params_out, strerror(errno));
+        return 1;
     }
     if (runs_csv != NULL) {
         csv = fopen(runs_csv, "w");
@@ -430,6 +464,9 @@ int main(int argc, char **argv)
             }
             if (rc != TV_OK) {
                 fprintf(stderr, "%s: unit %llu: %s\n", s_prog, (unsigned long long)unit, tv_status_str(rc));
+                return 1;
+            }
+            if (params_out != NULL && write_unit_params(params_out, sec == 0 ? "stops" : "all", unit, &ac) != 0) {
                 return 1;
             }
             for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {

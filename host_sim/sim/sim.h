@@ -209,6 +209,7 @@ typedef struct {
     double stop_learn_onset_closed_rad; /**< fitted contact onset, closed stop [rad] (NaN unless SL_DONE) */
     double stop_learn_onset_open_rad;   /**< fitted contact onset, open stop [rad] (NaN unless SL_DONE) */
     double stop_learn_k;             /**< fitted contact stiffness [N m/rad^e] (NaN unless SL_DONE) */
+    double stop_learn_exponent;      /**< fitted contact exponent (common to both stops; NaN unless SL_DONE) */
     double stop_learn_s;             /**< time the routine ran [s] */
     double stop_contact_speed_max;   /**< largest plant velocity INTO a stop [rad/s] at a tick whose plant
                                           angle was within SIM_CONTACT_NEAR_RAD of that stop or beyond it,

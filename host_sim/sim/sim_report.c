@@ -127,6 +127,10 @@ int sim_result_print(FILE *f, const sim_result_t *r)
                 sl_phase_name((sl_phase_t)r->stop_learn_phase), r->stop_learn_error != 0 ? ": " : "",
                 r->stop_learn_error != 0 ? sl_error_name((sl_error_t)r->stop_learn_error) : "", r->stop_learn_s,
                 r->stop_learn_closed_rad, r->stop_learn_open_rad, r->stop_contact_speed_max);
+        if (r->stop_learn_phase == (int)SL_DONE) {
+            fprintf(f, "  learned contact law: onsets closed %.5f rad, open %.5f rad; k %.4g N m/rad^e, exponent %.3g\n",
+                    r->stop_learn_onset_closed_rad, r->stop_learn_onset_open_rad, r->stop_learn_k, r->stop_learn_exponent);
+        }
     }
     if (r->tracking.n_steps > 0u) {
         const sim_tracking_t *tk = &r->tracking;

@@ -37,7 +37,7 @@ static void sim_result_clear(sim_result_t *res)
     res->first_fault_t_s = SIM_NAN;
     res->nees_window_max = SIM_NAN;
     res->stop_learn_closed_rad = res->stop_learn_open_rad = SIM_NAN;
-    res->stop_learn_onset_closed_rad = res->stop_learn_onset_open_rad = res->stop_learn_k = SIM_NAN;
+    res->stop_learn_onset_closed_rad = res->stop_learn_onset_open_rad = res->stop_learn_k = res->stop_learn_exponent = SIM_NAN;
     res->stop_contact_speed_max = SIM_NAN;
     sim_tracking_init(&res->tracking);
 }
@@ -483,6 +483,7 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->stop_learn_onset_closed_rad = (double)app->sl.onset_closed_rad;
         res->stop_learn_onset_open_rad = (double)app->sl.onset_open_rad;
         res->stop_learn_k = (double)app->sl.k_stop;
+        res->stop_learn_exponent = (double)app->sl.exponent;
     }
     res->consistency_episodes = app->nism.episodes;
     res->paper_printed_resets = side->printed.n_resets;
