@@ -523,10 +523,9 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, dist_part_t *dp, int j, 
  * period implies (not the far larger one the linearised stiff stop would). Returns 1 when it
  * inflated.
  */
-static int inflate_at_contact(const tv_real_t x[TVM_NX], mat3_t P, tv_real_t z, tv_real_t r, tv_real_t gate,
-                              tv_real_t Ts)
+static int inflate_at_contact(tv_real_t phi, mat3_t P, tv_real_t z, tv_real_t r, tv_real_t gate, tv_real_t Ts)
 {
-    const tv_real_t y = z - x[TVM_PHI];
+    const tv_real_t y = z - phi;
     const tv_real_t s = P[TVM_PHI][TVM_PHI] + r;
     tv_real_t D;
     if (!(y * y > gate * s)) {
@@ -594,7 +593,7 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     for (ch = 0; ch < EKF_NCH; ++ch) {
         if (use[ch]) {
             if (ch == EKF_CH_ANGLE && ekf->in_contact && ekf->cfg.contact_nis_gate > TV_R(0.0) &&
-                inflate_at_contact(x, P, meas->z[ch], ekf->cfg.r[ch], ekf->cfg.contact_nis_gate, ekf->model.p.Ts_s)) {
+                inflate_at_contact(x[TVM_PHI], P, meas->z[ch], ekf->cfg.r[ch], ekf->cfg.contact_nis_gate, ekf->model.p.Ts_s)) {
                 ++n_inflate;
             }
             if (!scalar_update(x, P, ekf->d_on ? &dp : NULL, channel_state[ch], meas->z[ch], ekf->cfg.r[ch], &res.innov[ch],
