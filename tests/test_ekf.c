@@ -251,7 +251,7 @@ static void run_inflation_case(double phi0, double gate, double nis_target, doub
     double x[3];
     double r;
     double y;
-    double a;
+    double q;
     int i;
     int j;
     tvm_params_default(&p);
@@ -289,14 +289,14 @@ static void run_inflation_case(double phi0, double gate, double nis_target, doub
     /* expected: with q chosen so that y^2 / (P_pp + q Ts^3/3 + r) = gate when it exceeds it,
      * P_ww += q Ts, P_wp += q Ts^2/2, P_pp += q Ts^3/3; then the scalar update
      * K = P e_phi / (P_pp + r), x <- x + K y */
-    a = 0.0;
+    q = 0.0;
     if (gate > 0.0 && y * y > gate * (P[2][2] + r) && f.in_contact) {
         const double Ts = (double)p.Ts_s;
-        a = (y * y / gate - r - P[2][2]) / (Ts * Ts * Ts / 3.0); /* q */
-        P[1][1] += a * Ts;
-        P[1][2] += a * Ts * Ts / 2.0;
+        q = (y * y / gate - r - P[2][2]) / (Ts * Ts * Ts / 3.0);
+        P[1][1] += q * Ts;
+        P[1][2] += q * Ts * Ts / 2.0;
         P[2][1] = P[1][2];
-        P[2][2] += a * Ts * Ts * Ts / 3.0;
+        P[2][2] += q * Ts * Ts * Ts / 3.0;
     }
     {
         double s;

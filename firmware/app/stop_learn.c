@@ -144,28 +144,38 @@ static tv_real_t fail(sl_t *sl, sl_error_t e)
     return TV_R(0.0);
 }
 
-int sl_contact_fit(const tv_real_t *F_Nm, const tv_real_t *a_rad, unsigned n, tv_real_t dir, tv_real_t e,
-                   tv_real_t k_min, tv_real_t k_max, tv_real_t *a0_rad, tv_real_t *k)
+/* Rest angles a[j] (j < n) at forces F[j]: finite and positive respectively, 2 <= n <= SL_LEVELS. */
+static int fit_inputs_ok(const tv_real_t *F_Nm, const tv_real_t *a_rad, unsigned n)
 {
-    tv_real_t g[SL_LEVELS];
+    unsigned j;
+    if (n < 2u || n > SL_LEVELS) {
+        return 0;
+    }
+    for (j = 0; j < n; ++j) {
+        if (!(F_Nm[j] > TV_R(0.0)) || !TV_IS_FINITE(a_rad[j])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+/*
+ * The fit of sl_contact_fit() on g[j] = F[j]^(1/e) (penetration = k^(-1/e) g), with the sum of
+ * squared residuals of the result into *sse. Inputs checked by the callers. TV_ERR_CONFIG when
+ * all g are equal.
+ */
+static int fit_law(const tv_real_t *g, const tv_real_t *a_rad, unsigned n, tv_real_t dir, tv_real_t e, tv_real_t k_min,
+                   tv_real_t k_max, tv_real_t *a0_rad, tv_real_t *k, tv_real_t *sse)
+{
     tv_real_t gm = TV_R(0.0);
     tv_real_t am = TV_R(0.0);
     tv_real_t sgg = TV_R(0.0);
     tv_real_t sga = TV_R(0.0);
+    tv_real_t ss = TV_R(0.0);
     tv_real_t c;
     tv_real_t kk;
     unsigned j;
-    if (F_Nm == NULL || a_rad == NULL || a0_rad == NULL || k == NULL) {
-        return TV_ERR_NULL;
-    }
-    if (n < 2u || n > SL_LEVELS || !(e >= TV_R(1.0) && e <= TV_R(3.0)) || !(k_min > TV_R(0.0)) || !(k_max > k_min)) {
-        return TV_ERR_CONFIG;
-    }
     for (j = 0; j < n; ++j) {
-        if (!(F_Nm[j] > TV_R(0.0)) || !TV_IS_FINITE(a_rad[j])) {
-            return TV_ERR_CONFIG;
-        }
-        g[j] = TV_POWP(F_Nm[j], TV_R(1.0) / e); /* penetration = (F / k)^(1/e) = k^(-1/e) g */
         gm += g[j];
         am += a_rad[j];
     }
@@ -184,7 +194,31 @@ int sl_contact_fit(const tv_real_t *F_Nm, const tv_real_t *a_rad, unsigned n, tv
     c = TV_POWP(kk, -TV_R(1.0) / e);
     *k = kk;
     *a0_rad = am - dir * c * gm;
+    for (j = 0; j < n; ++j) {
+        const tv_real_t r = a_rad[j] - *a0_rad - dir * c * g[j];
+        ss += r * r;
+    }
+    *sse = ss;
     return TV_OK;
+}
+
+int sl_contact_fit(const tv_real_t *F_Nm, const tv_real_t *a_rad, unsigned n, tv_real_t dir, tv_real_t e,
+                   tv_real_t k_min, tv_real_t k_max, tv_real_t *a0_rad, tv_real_t *k)
+{
+    tv_real_t g[SL_LEVELS];
+    tv_real_t sse;
+    unsigned j;
+    if (F_Nm == NULL || a_rad == NULL || a0_rad == NULL || k == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!fit_inputs_ok(F_Nm, a_rad, n) || !(e >= TV_R(1.0) && e <= TV_R(3.0)) || !(k_min > TV_R(0.0)) ||
+        !(k_max > k_min)) {
+        return TV_ERR_CONFIG;
+    }
+    for (j = 0; j < n; ++j) {
+        g[j] = TV_POWP(F_Nm[j], TV_R(1.0) / e);
+    }
+    return fit_law(g, a_rad, n, dir, e, k_min, k_max, a0_rad, k, &sse);
 }
 
 /* Net torque of level j [N m]. */
@@ -205,25 +239,31 @@ int sl_contact_fit_joint(const tv_real_t *F_Nm, const tv_real_t a_rad[2][SL_LEVE
     if (!(e_min >= TV_R(1.0)) || !(e_max >= e_min) || !(e_max <= TV_R(3.0))) {
         return TV_ERR_CONFIG;
     }
+    if (!fit_inputs_ok(F_Nm, a_rad[0], n) || !fit_inputs_ok(F_Nm, a_rad[1], n) || !(k_min > TV_R(0.0)) ||
+        !(k_max > k_min)) {
+        return TV_ERR_CONFIG;
+    }
     for (g = 0; g < SL_EXP_GRID; ++g) {
         const tv_real_t eg = e_min + (e_max - e_min) * (tv_real_t)g / (tv_real_t)(SL_EXP_GRID - 1u);
+        /* the bounds are secant stiffnesses at SL_P_REF_RAD: k p_ref^(e-1) in [k_min, k_max] */
+        const tv_real_t to_law = TV_POWP(SL_P_REF_RAD, TV_R(1.0) - eg);
+        tv_real_t gF[SL_LEVELS];
         tv_real_t a0[2];
         tv_real_t kk[2];
         tv_real_t sse = TV_R(0.0);
         unsigned s;
+        unsigned j;
+        for (j = 0; j < n; ++j) {
+            gF[j] = TV_POWP(F_Nm[j], TV_R(1.0) / eg); /* shared by both stops */
+        }
         for (s = 0; s < 2u; ++s) {
-            const tv_real_t dir = s == 0u ? TV_R(-1.0) : TV_R(1.0);
-            unsigned j;
-            /* the bounds are secant stiffnesses at SL_P_REF_RAD: k p_ref^(e-1) in [k_min, k_max] */
-            const tv_real_t to_law = TV_POWP(SL_P_REF_RAD, TV_R(1.0) - eg);
-            const int rc = sl_contact_fit(F_Nm, a_rad[s], n, dir, eg, k_min * to_law, k_max * to_law, &a0[s], &kk[s]);
+            tv_real_t sse_s;
+            const int rc = fit_law(gF, a_rad[s], n, s == 0u ? TV_R(-1.0) : TV_R(1.0), eg, k_min * to_law,
+                                   k_max * to_law, &a0[s], &kk[s], &sse_s);
             if (rc != TV_OK) {
                 return rc;
             }
-            for (j = 0; j < n; ++j) {
-                const tv_real_t r = a_rad[s][j] - a0[s] - dir * TV_POWP(F_Nm[j] / kk[s], TV_R(1.0) / eg);
-                sse += r * r;
-            }
+            sse += sse_s;
         }
         if (best < TV_R(0.0) || sse < best) {
             best = sse;
@@ -268,7 +308,7 @@ static void stop_measured(sl_t *sl, tv_real_t phi)
     sl->phi_open_rad = phi;
     {
         tv_real_t F[SL_LEVELS];
-        tv_real_t onset[2];
+        tv_real_t onset[2] = {TV_R(0.0), TV_R(0.0)}; /* written by the fit on TV_OK */
         unsigned j;
         for (j = 0; j < SL_LEVELS; ++j) {
             F[j] = level_torque(c, j);

@@ -310,6 +310,8 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
 {
     mat3_t FP;
     mat3_t Pn;
+    /* the band may be on (covariance inflation) with no contact noise: nothing to add then */
+    const int add_qc = contact && ekf->cfg.qc_Nm2_s > TV_R(0.0);
     tv_real_t FPd[TVM_NX] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
     tv_real_t Pxd[TVM_NX] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
     tv_real_t Pdd = TV_R(0.0);
@@ -349,7 +351,7 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
         TV_UNROLL3
         for (b = a; b < TVM_NX; ++b) {
             Pn[a][b] = FP[a][0] * F[b][0] + FP[a][1] * F[b][1] + FP[a][2] * F[b][2] + ekf->cfg.Q[a][b];
-            if (contact) {
+            if (add_qc) {
                 Pn[a][b] += ekf->Qc[a][b];
             }
             if (ekf->d_on && G != NULL) {
