@@ -53,19 +53,23 @@ static int same_estimate(const ekf_t *a, const ekf_t *b)
 
 #if TV_REAL_IS_DOUBLE
 /*
- * The contact-torque state: (1) one predict and one angle update of the augmented filter against
- * the same steps written out on the full 4x4 matrices (F4 = [[F, G], [0, beta]], P4 = F4 P4 F4^T
- * + Q4; K = P4 H^T / s, P4 = (I - K H) P4 (I - K H)^T + r K K^T) from a random SPD P4;
- * (2) on a truth that has a constant extra torque of 0.3 N m, the filter's d converges to it
+ * The augmented states (contact torque d, resistance error dR): (1) one predict, one current and
+ * one angle update of the augmented filter against the same steps written out on the full 5x5
+ * matrices (F5 = [[F, G], [0, B]], P5 = F5 P5 F5^T + Q5; K = P5 H^T / s, P5 = (I - K H) P5
+ * (I - K H)^T + r K K^T) from a random SPD P5; (2) on a truth that has a constant extra torque of
+ * 0.3 N m, the filter's d converges to it
  * within 3 sigma and the velocity error stays small.
  */
 static void test_contact_torque_state(void)
 {
+    enum { N = 5 }; /* x (3) + d + dR */
     tvm_params_t p;
     ekf_config_t cfg;
     ekf_t f;
-    double P4[4][4];
-    double A[4][4];
+    double P5[N][N];
+    double A[N][N];
+    double T5[N][N];
+    double Pn[N][N];
     int a;
     int b;
     int c;
@@ -73,126 +77,158 @@ static void test_contact_torque_state(void)
     ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
     cfg.qd_free_Nm2_s = 0.5;
     cfg.d_tau_s = 0.02;
+    cfg.qr_ohm2_s = 0.3;
     TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
-    TV_CHECK_EQ_INT(f.d_on, 1);
-    /* a random SPD 4x4: A A^T + 0.1 I */
-    for (a = 0; a < 4; ++a) {
-        for (b = 0; b < 4; ++b) {
+    TV_CHECK_EQ_INT(f.aug_on, 1);
+    TV_CHECK_NEAR(f.Paa[TVM_A_DR][TVM_A_DR], cfg.r_sigma0_ohm * cfg.r_sigma0_ohm, 1e-15);
+    /* a random SPD 5x5: A A^T + 0.1 I */
+    for (a = 0; a < N; ++a) {
+        for (b = 0; b < N; ++b) {
             A[a][b] = urand() - 0.5;
         }
     }
-    for (a = 0; a < 4; ++a) {
-        for (b = 0; b < 4; ++b) {
-            P4[a][b] = a == b ? 0.1 : 0.0;
-            for (c = 0; c < 4; ++c) {
-                P4[a][b] += A[a][c] * A[b][c];
+    for (a = 0; a < N; ++a) {
+        for (b = 0; b < N; ++b) {
+            P5[a][b] = a == b ? 0.1 : 0.0;
+            for (c = 0; c < N; ++c) {
+                P5[a][b] += A[a][c] * A[b][c];
             }
         }
     }
     for (a = 0; a < 3; ++a) {
         for (b = 0; b < 3; ++b) {
-            f.P[a][b] = P4[a][b];
+            f.P[a][b] = P5[a][b];
         }
-        f.Pxd[a] = P4[a][3];
+        f.Pxa[a][TVM_A_TORQUE] = P5[a][3];
+        f.Pxa[a][TVM_A_DR] = P5[a][4];
     }
-    f.Pdd = P4[3][3];
+    f.Paa[0][0] = P5[3][3];
+    f.Paa[0][1] = P5[3][4];
+    f.Paa[1][0] = P5[4][3];
+    f.Paa[1][1] = P5[4][4];
     f.x[0] = 0.5;
     f.x[1] = 3.0;
     f.x[2] = 0.4;
-    f.d = 0.2;
+    f.aug[TVM_A_TORQUE] = 0.2;
+    f.aug[TVM_A_DR] = -0.4;
     {
         double F[3][3];
-        double G[3];
+        double G[3][TVM_NA];
         double xn[3];
-        double F4[4][4] = {{0}};
-        double T4[4][4];
-        double Pn[4][4];
+        double F5[N][N] = {{0}};
         const double beta = exp(-1e-3 / 0.02);
         const double u = 5.0;
-        tvm_step_dist(&f.model, f.x, f.d, u, xn, F, G);
+        tvm_step_aug(&f.model, f.x, f.aug, u, xn, F, G);
         for (a = 0; a < 3; ++a) {
             for (b = 0; b < 3; ++b) {
-                F4[a][b] = F[a][b];
+                F5[a][b] = F[a][b];
             }
-            F4[a][3] = G[a];
+            F5[a][3] = G[a][TVM_A_TORQUE];
+            F5[a][4] = G[a][TVM_A_DR];
         }
-        F4[3][3] = beta;
-        for (a = 0; a < 4; ++a) {
-            for (b = 0; b < 4; ++b) {
-                T4[a][b] = 0.0;
-                for (c = 0; c < 4; ++c) {
-                    T4[a][b] += F4[a][c] * P4[c][b];
+        F5[3][3] = beta;
+        F5[4][4] = 1.0;
+        for (a = 0; a < N; ++a) {
+            for (b = 0; b < N; ++b) {
+                T5[a][b] = 0.0;
+                for (c = 0; c < N; ++c) {
+                    T5[a][b] += F5[a][c] * P5[c][b];
                 }
             }
         }
-        for (a = 0; a < 4; ++a) {
-            for (b = 0; b < 4; ++b) {
+        for (a = 0; a < N; ++a) {
+            for (b = 0; b < N; ++b) {
                 Pn[a][b] = (a < 3 && b < 3) ? cfg.Q[a][b] : 0.0;
-                for (c = 0; c < 4; ++c) {
-                    Pn[a][b] += T4[a][c] * F4[b][c];
+                for (c = 0; c < N; ++c) {
+                    Pn[a][b] += T5[a][c] * F5[b][c];
                 }
             }
         }
         Pn[3][3] += 0.5 * 1e-3;
+        Pn[4][4] += 0.3 * 1e-3;
         TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
         for (a = 0; a < 3; ++a) {
             TV_CHECK_NEAR(f.x[a], xn[a], 1e-12 * (1.0 + fabs(xn[a])));
             for (b = 0; b < 3; ++b) {
                 TV_CHECK_NEAR(f.P[a][b], Pn[a][b], 1e-9 * (1.0 + fabs(Pn[a][b])));
             }
-            TV_CHECK_NEAR(f.Pxd[a], Pn[a][3], 1e-9 * (1.0 + fabs(Pn[a][3])));
+            TV_CHECK_NEAR(f.Pxa[a][TVM_A_TORQUE], Pn[a][3], 1e-9 * (1.0 + fabs(Pn[a][3])));
+            TV_CHECK_NEAR(f.Pxa[a][TVM_A_DR], Pn[a][4], 1e-9 * (1.0 + fabs(Pn[a][4])));
         }
-        TV_CHECK_NEAR(f.Pdd, Pn[3][3], 1e-12);
-        TV_CHECK_NEAR(f.d, 0.2 * beta, 1e-15);
-        /* one angle update, z = phi + 0.01 */
+        for (a = 0; a < 2; ++a) {
+            for (b = 0; b < 2; ++b) {
+                TV_CHECK_NEAR(f.Paa[a][b], Pn[3 + a][3 + b], 1e-12);
+            }
+        }
+        TV_CHECK_NEAR(f.aug[TVM_A_TORQUE], 0.2 * beta, 1e-15);
+        TV_CHECK_NEAR(f.aug[TVM_A_DR], -0.4, 1e-15);
+        /* one current update (z = i + 0.02) and one angle update (z = phi + 0.01), each against
+         * the Joseph form on the full 5x5 written out */
         {
-            ekf_meas_t m;
-            const double r = cfg.r[EKF_CH_ANGLE];
-            const double y = 0.01;
-            const double s = Pn[2][2] + r;
-            double K[4];
-            double x4[4];
-            double I_KH[4][4];
-            double Pu[4][4];
-            x4[0] = f.x[0];
-            x4[1] = f.x[1];
-            x4[2] = f.x[2];
-            x4[3] = f.d;
-            m.z[EKF_CH_CURRENT] = f.x[0];
-            m.z[EKF_CH_VELOCITY] = 0.0;
-            m.z[EKF_CH_ANGLE] = f.x[2] + y;
-            for (a = 0; a < 4; ++a) {
-                K[a] = Pn[a][2] / s;
-                for (b = 0; b < 4; ++b) {
-                    I_KH[a][b] = (a == b ? 1.0 : 0.0) - (b == 2 ? K[a] : 0.0);
-                }
-            }
-            for (a = 0; a < 4; ++a) {
-                for (b = 0; b < 4; ++b) {
-                    T4[a][b] = 0.0;
-                    for (c = 0; c < 4; ++c) {
-                        T4[a][b] += I_KH[a][c] * Pn[c][b];
+            static const int chans[2] = {EKF_CH_CURRENT, EKF_CH_ANGLE};
+            static const double ys[2] = {0.02, 0.01};
+            double x5[N];
+            int n;
+            x5[0] = f.x[0];
+            x5[1] = f.x[1];
+            x5[2] = f.x[2];
+            x5[3] = f.aug[TVM_A_TORQUE];
+            x5[4] = f.aug[TVM_A_DR];
+            for (n = 0; n < 2; ++n) {
+                ekf_meas_t m;
+                const int j = chans[n] == EKF_CH_CURRENT ? 0 : 2;
+                const double r = cfg.r[chans[n]];
+                const double y = ys[n];
+                const double s = Pn[j][j] + r;
+                double K[N];
+                double I_KH[N][N];
+                double Pu[N][N];
+                m.z[EKF_CH_CURRENT] = x5[0] + (j == 0 ? y : 0.0);
+                m.z[EKF_CH_VELOCITY] = 0.0;
+                m.z[EKF_CH_ANGLE] = x5[2] + (j == 2 ? y : 0.0);
+                for (a = 0; a < N; ++a) {
+                    K[a] = Pn[a][j] / s;
+                    for (b = 0; b < N; ++b) {
+                        I_KH[a][b] = (a == b ? 1.0 : 0.0) - (b == j ? K[a] : 0.0);
                     }
                 }
-            }
-            for (a = 0; a < 4; ++a) {
-                for (b = 0; b < 4; ++b) {
-                    Pu[a][b] = r * K[a] * K[b];
-                    for (c = 0; c < 4; ++c) {
-                        Pu[a][b] += T4[a][c] * I_KH[b][c];
+                for (a = 0; a < N; ++a) {
+                    for (b = 0; b < N; ++b) {
+                        T5[a][b] = 0.0;
+                        for (c = 0; c < N; ++c) {
+                            T5[a][b] += I_KH[a][c] * Pn[c][b];
+                        }
                     }
                 }
-            }
-            TV_CHECK_EQ_INT(ekf_correct_channels(&f, &m, EKF_CH_BIT(EKF_CH_ANGLE), NULL), TV_OK);
-            for (a = 0; a < 3; ++a) {
-                TV_CHECK_NEAR(f.x[a], x4[a] + K[a] * y, 1e-9 * (1.0 + fabs(x4[a])));
-                for (b = 0; b < 3; ++b) {
-                    TV_CHECK_NEAR(f.P[a][b], Pu[a][b], 1e-9 * (1.0 + fabs(Pu[a][b])));
+                for (a = 0; a < N; ++a) {
+                    for (b = 0; b < N; ++b) {
+                        Pu[a][b] = r * K[a] * K[b];
+                        for (c = 0; c < N; ++c) {
+                            Pu[a][b] += T5[a][c] * I_KH[b][c];
+                        }
+                    }
                 }
-                TV_CHECK_NEAR(f.Pxd[a], Pu[a][3], 1e-9 * (1.0 + fabs(Pu[a][3])));
+                TV_CHECK_EQ_INT(ekf_correct_channels(&f, &m, EKF_CH_BIT(chans[n]), NULL), TV_OK);
+                for (a = 0; a < N; ++a) {
+                    x5[a] += K[a] * y;
+                }
+                for (a = 0; a < 3; ++a) {
+                    TV_CHECK_NEAR(f.x[a], x5[a], 1e-9 * (1.0 + fabs(x5[a])));
+                    for (b = 0; b < 3; ++b) {
+                        TV_CHECK_NEAR(f.P[a][b], Pu[a][b], 1e-9 * (1.0 + fabs(Pu[a][b])));
+                    }
+                    TV_CHECK_NEAR(f.Pxa[a][TVM_A_TORQUE], Pu[a][3], 1e-9 * (1.0 + fabs(Pu[a][3])));
+                    TV_CHECK_NEAR(f.Pxa[a][TVM_A_DR], Pu[a][4], 1e-9 * (1.0 + fabs(Pu[a][4])));
+                }
+                for (a = 0; a < 2; ++a) {
+                    for (b = 0; b < 2; ++b) {
+                        TV_CHECK_NEAR(f.Paa[a][b], Pu[3 + a][3 + b], 1e-9 * (1.0 + fabs(Pu[3 + a][3 + b])));
+                    }
+                }
+                TV_CHECK_NEAR(f.aug[TVM_A_TORQUE], x5[3], 1e-9);
+                TV_CHECK_NEAR(f.aug[TVM_A_DR], x5[4], 1e-9);
+                memcpy(Pn, Pu, sizeof Pn);
             }
-            TV_CHECK_NEAR(f.Pdd, Pu[3][3], 1e-9 * (1.0 + Pu[3][3]));
-            TV_CHECK_NEAR(f.d, x4[3] + K[3] * y, 1e-9);
         }
     }
     /* (2) a truth with a constant extra 0.3 N m (a spring preload the model lacks) */
@@ -227,6 +263,98 @@ static void test_contact_torque_state(void)
         TV_CHECK_NEAR(d_est, 0.3, 3.0 * sd);
         TV_CHECK_LE(sqrt(werr / 1000.0), 0.1);
     }
+}
+
+/*
+ * The resistance-error state: a truth whose winding is 0.8 ohm above the model's (R 4.3 -> 5.1,
+ * the armature equation integrated here with the true R: the model's map with that R, built by
+ * tvm_init() from its own parameters). (1) Under a drive that moves current, dR converges to 0.8
+ * within 3 sigma, and the velocity error is small; (2) then 20 s with the bridge at 0 V and the
+ * plate at rest (no current: dR unobservable), the estimate does not move by more than 1 % and
+ * its sigma grows only by the random walk, sqrt(sigma^2 + q t); (3) the estimate stays inside
+ * its bound when the truth lies outside it.
+ */
+static void test_resistance_error_state(void)
+{
+    tvm_params_t p;
+    tvm_params_t pt;
+    tvm_t truth;
+    ekf_config_t cfg;
+    ekf_t f;
+    double xt[3] = {0.0, 0.0, 0.0};
+    double werr = 0.0;
+    double dr = 0.0;
+    double sr = 0.0;
+    double dr1;
+    double sr1;
+    long k;
+    tvm_params_default(&p);
+    pt = p;
+    pt.R_ohm = p.R_ohm + 0.8;
+    TV_CHECK_EQ_INT(tvm_init(&truth, &pt), TV_OK);
+    ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
+    cfg.qr_ohm2_s = 1e-3;
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    for (k = 0; k < 5000; ++k) {
+        ekf_meas_t m;
+        const double u = 4.0 * sin(2.0 * PI_D * 1.0 * (double)k * 1e-3) + 1.0;
+        tvm_step(&truth, xt, u, xt, NULL);
+        TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
+        m.z[EKF_CH_CURRENT] = xt[0] + 0.01 * gauss();
+        m.z[EKF_CH_VELOCITY] = 0.0;
+        m.z[EKF_CH_ANGLE] = xt[2] + 1.6e-4 * gauss();
+        TV_CHECK_EQ_INT(ekf_correct(&f, &m, NULL), TV_OK);
+        if (k >= 4000) {
+            werr += (f.x[1] - xt[1]) * (f.x[1] - xt[1]);
+        }
+    }
+    ekf_resistance_error(&f, &dr, &sr);
+    printf("  resistance error: true 0.8 ohm, estimate %.4f +- %.4f ohm, velocity RMSE over the last second %.4f rad/s\n",
+           dr, sr, sqrt(werr / 1000.0));
+    TV_CHECK(sr > 0.0 && sr < 0.1);
+    TV_CHECK_NEAR(dr, 0.8, 3.0 * sr);
+    TV_CHECK_LE(sqrt(werr / 1000.0), 0.1);
+    /* (2) bridge at 0 V: the springs take the plate back to limp-home (the back-EMF drives a
+     * current while it moves: real excitation), then it rests with no current for 20 s */
+    for (k = 0; k < 21000; ++k) {
+        if (k == 1000) {
+            ekf_resistance_error(&f, &dr, &sr);
+        }
+        ekf_meas_t m;
+        tvm_step(&truth, xt, 0.0, xt, NULL);
+        TV_CHECK_EQ_INT(ekf_predict(&f, 0.0), TV_OK);
+        m.z[EKF_CH_CURRENT] = xt[0] + 0.01 * gauss();
+        m.z[EKF_CH_VELOCITY] = 0.0;
+        m.z[EKF_CH_ANGLE] = xt[2] + 1.6e-4 * gauss();
+        TV_CHECK_EQ_INT(ekf_correct(&f, &m, NULL), TV_OK);
+    }
+    ekf_resistance_error(&f, &dr1, &sr1);
+    printf("  20 s without current: estimate %.4f -> %.4f, sigma %.4f -> %.4f ohm (random walk alone: %.4f)\n", dr, dr1, sr, sr1,
+           sqrt(sr * sr + 1e-3 * 20.0));
+    TV_CHECK_NEAR(dr1, dr, 0.01 * 0.8);
+    TV_CHECK(sr1 > sr);
+    TV_CHECK_LE(sr1, 1.01 * sqrt(sr * sr + 1e-3 * 20.0));
+    /* (3) a truth 6 ohm above the model, bound 1 ohm: the estimate stays at the bound */
+    pt.R_ohm = p.R_ohm + 6.0;
+    TV_CHECK_EQ_INT(tvm_init(&truth, &pt), TV_OK);
+    cfg.dr_abs_max_ohm = 1.0;
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    xt[0] = xt[1] = xt[2] = 0.0;
+    for (k = 0; k < 3000; ++k) {
+        ekf_meas_t m;
+        const double u = 6.0 * sin(2.0 * PI_D * 1.0 * (double)k * 1e-3);
+        tvm_step(&truth, xt, u, xt, NULL);
+        TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
+        m.z[EKF_CH_CURRENT] = xt[0] + 0.01 * gauss();
+        m.z[EKF_CH_VELOCITY] = 0.0;
+        m.z[EKF_CH_ANGLE] = xt[2] + 1.6e-4 * gauss();
+        TV_CHECK_EQ_INT(ekf_correct(&f, &m, NULL), TV_OK);
+        TV_CHECK(f.aug[TVM_A_DR] <= 1.0 && f.aug[TVM_A_DR] >= -1.0);
+    }
+    TV_CHECK(f.aug[TVM_A_DR] >= 0.99);
+    /* a bound so large that the explicit step could lose stability is refused */
+    cfg.dr_abs_max_ohm = 1e3;
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
 }
 #endif
 
@@ -843,6 +971,7 @@ int main(int argc, char **argv)
 #if TV_REAL_IS_DOUBLE
     TV_TEST_RUN(test_locally_observable_in_both_setups);
     TV_TEST_RUN(test_contact_torque_state);
+    TV_TEST_RUN(test_resistance_error_state);
 #endif
     TV_TEST_RUN(test_contact_inflation);
     TV_TEST_RUN(test_converges_from_a_wrong_initial_state);

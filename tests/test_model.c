@@ -243,8 +243,10 @@ static void test_hunt_crossley_contact(void)
     TV_CHECK_EQ_INT(tvm_init(&m, &p), TV_ERR_CONFIG);
 }
 
-/* The contact-torque input column G = dx_next/dd of tvm_step_dist() against central differences
- * in d, with d = 0 reproducing tvm_step() bit for bit. */
+/* The augmented input columns G = dx_next/da of tvm_step_aug() (a torque d on the plate and a
+ * winding-resistance error dR) against central differences in each input, with a = 0
+ * reproducing tvm_step() bit for bit and tvm_step_dist() agreeing with the torque column; and
+ * the explicit resistance error against the exact armature of a model whose R is R + dR. */
 static void test_disturbance_column(void)
 {
     const tvm_t m = make_model();
@@ -252,36 +254,79 @@ static void test_disturbance_column(void)
     for (k = 0; k < 1000; ++k) {
         double x[3];
         double F[3][3];
-        double G[3];
+        double G[3][TVM_NA];
+        double Gd[3];
         double f0[3];
+        double fd0[3];
         double fref[3];
-        double fp[3];
-        double fm[3];
         const double u = uniform(-14.0, 14.0);
-        const double d = (k % 4 == 0) ? 0.0 : uniform(-2.0, 2.0);
-        const double h = 1e-6;
+        const int zero = k % 4 == 0;
+        double a[TVM_NA];
         int r;
+        int q;
+        a[TVM_A_TORQUE] = zero ? 0.0 : uniform(-2.0, 2.0);
+        a[TVM_A_DR] = zero ? 0.0 : uniform(-1.5, 1.5);
         x[0] = uniform(-3.0, 3.0);
         x[1] = uniform(-40.0, 40.0);
         x[2] = uniform(m.p.phi_closed_rad - 0.005, m.p.phi_open_rad + 0.005);
-        tvm_step_dist(&m, x, d, u, f0, F, G);
-        if (d == 0.0) {
+        tvm_step_aug(&m, x, a, u, f0, F, G);
+        if (zero) {
             tvm_step(&m, x, u, fref, NULL);
             for (r = 0; r < 3; ++r) {
                 TV_CHECK(memcmp(&fref[r], &f0[r], sizeof fref[r]) == 0);
             }
         }
-        tvm_step_dist(&m, x, d + h, u, fp, NULL, NULL);
-        tvm_step_dist(&m, x, d - h, u, fm, NULL, NULL);
-        for (r = 0; r < 3; ++r) {
-            const double central = (fp[r] - fm[r]) / (2.0 * h);
-            const double fwd = (fp[r] - f0[r]) / h;
-            const double bwd = (f0[r] - fm[r]) / h;
-            const double tol = 1e-5 * fabs(central) + fd_rounding(f0[r]) + 3e-5;
-            /* a stick/slip or contact kink inside the stencil: one side matches */
-            TV_CHECK(fabs(G[r] - central) <= tol || fabs(G[r] - fwd) <= 1e-3 * fabs(G[r]) + tol ||
-                     fabs(G[r] - bwd) <= 1e-3 * fabs(G[r]) + tol);
+        if (a[TVM_A_DR] == 0.0) {
+            tvm_step_dist(&m, x, a[TVM_A_TORQUE], u, fd0, F, Gd);
+            for (r = 0; r < 3; ++r) {
+                TV_CHECK(memcmp(&fd0[r], &f0[r], sizeof fd0[r]) == 0);
+                TV_CHECK(memcmp(&Gd[r], &G[r][TVM_A_TORQUE], sizeof Gd[r]) == 0);
+            }
         }
+        for (q = 0; q < TVM_NA; ++q) {
+            const double h = q == TVM_A_TORQUE ? 1e-6 : 1e-6;
+            double ap[TVM_NA];
+            double am[TVM_NA];
+            double fp[3];
+            double fm[3];
+            ap[0] = am[0] = a[0];
+            ap[1] = am[1] = a[1];
+            ap[q] += h;
+            am[q] -= h;
+            tvm_step_aug(&m, x, ap, u, fp, NULL, NULL);
+            tvm_step_aug(&m, x, am, u, fm, NULL, NULL);
+            for (r = 0; r < 3; ++r) {
+                const double g = G[r][q];
+                const double central = (fp[r] - fm[r]) / (2.0 * h);
+                const double fwd = (fp[r] - f0[r]) / h;
+                const double bwd = (f0[r] - fm[r]) / h;
+                const double tol = 1e-5 * fabs(central) + fd_rounding(f0[r]) + 3e-5;
+                /* a stick/slip or contact kink inside the stencil: one side matches */
+                TV_CHECK(fabs(g - central) <= tol || fabs(g - fwd) <= 1e-3 * fabs(g) + tol ||
+                         fabs(g - bwd) <= 1e-3 * fabs(g) + tol);
+            }
+        }
+    }
+    /* the explicit resistance error against the exact armature with R + dR (locked plate: no
+     * friction breakaway, so only the armature moves): i after 1 ms from 0 under 6 V, dR 0.8 */
+    {
+        tvm_params_t p;
+        tvm_t m0;
+        tvm_t m1;
+        double x0[3] = {0.0, 0.0, 0.3};
+        double xa[3];
+        double xe[3];
+        const double a[TVM_NA] = {0.0, 0.8};
+        tvm_params_default(&p);
+        p.Kt_Nm_A = 0.0;
+        TV_CHECK_EQ_INT(tvm_init(&m0, &p), TV_OK);
+        p.R_ohm += 0.8;
+        TV_CHECK_EQ_INT(tvm_init(&m1, &p), TV_OK);
+        tvm_step_aug(&m0, x0, a, 6.0, xa, NULL, NULL);
+        tvm_step(&m1, x0, 6.0, xe, NULL);
+        /* exact: 6 / 5.1 (1 - exp(-5.1 ms / 2 ms)); the explicit form is first order in h dR / L */
+        TV_CHECK_NEAR(xe[0], 6.0 / 5.1 * (1.0 - exp(-5.1e-3 / 0.002)), 1e-9);
+        TV_CHECK_NEAR(xa[0], xe[0], 0.01 * xe[0]);
     }
 }
 

@@ -151,6 +151,10 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->qd_free_Nm2_s = EKF_DEFAULT_QD_FREE_NM2_S;
     cfg->d_tau_s = EKF_DEFAULT_D_TAU_S;
     cfg->d_var_ceil = TV_R(1e4);
+    cfg->qr_ohm2_s = EKF_DEFAULT_QR_OHM2_S;
+    cfg->r_sigma0_ohm = EKF_DEFAULT_R_SIGMA0_OHM;
+    cfg->dr_abs_max_ohm = EKF_DEFAULT_DR_ABS_MAX_OHM;
+    cfg->dr_excite_A = EKF_DEFAULT_DR_EXCITE_A;
     cfg->contact_nis_gate = EKF_DEFAULT_CONTACT_NIS_GATE;
 }
 
@@ -177,6 +181,7 @@ void ekf_config_paper(ekf_config_t *cfg)
     cfg->stop_learn_margin_rad = TV_R(0.0);
     cfg->qd_contact_Nm2_s = TV_R(0.0);
     cfg->qd_free_Nm2_s = TV_R(0.0);
+    cfg->qr_ohm2_s = TV_R(0.0);
     cfg->contact_nis_gate = TV_R(0.0);
 }
 
@@ -227,7 +232,9 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->phi_max_rad) || !TV_IS_FINITE(cfg->contact_band_rad) || !TV_IS_FINITE(cfg->qc_Nm2_s) ||
         !TV_IS_FINITE(cfg->stop_learn_margin_rad) || !TV_IS_FINITE(cfg->qd_contact_Nm2_s) ||
         !TV_IS_FINITE(cfg->qd_free_Nm2_s) || !TV_IS_FINITE(cfg->d_tau_s) || !TV_IS_FINITE(cfg->d_var_ceil) ||
-        !TV_IS_FINITE(cfg->contact_nis_gate)) {
+        !TV_IS_FINITE(cfg->contact_nis_gate) || !TV_IS_FINITE(cfg->qr_ohm2_s) ||
+        !TV_IS_FINITE(cfg->r_sigma0_ohm) || !TV_IS_FINITE(cfg->dr_abs_max_ohm) ||
+        !TV_IS_FINITE(cfg->dr_excite_A)) {
         return TV_ERR_NONFINITE;
     }
     if (cfg->setup != EKF_SETUP_CURRENT_ANGLE && cfg->setup != EKF_SETUP_PAPER_3MEAS) {
@@ -248,7 +255,14 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         cfg->contact_band_rad < TV_R(0.0) || cfg->contact_band_rad > TV_R(0.5) || cfg->qc_Nm2_s < TV_R(0.0) ||
         cfg->stop_learn_margin_rad < TV_R(0.0) || cfg->stop_learn_margin_rad > TV_R(0.5) ||
         cfg->qd_contact_Nm2_s < TV_R(0.0) || cfg->qd_free_Nm2_s < TV_R(0.0) || !(cfg->d_tau_s > TV_R(0.0)) ||
-        !(cfg->d_var_ceil > TV_R(0.0)) || cfg->contact_nis_gate < TV_R(0.0)) {
+        !(cfg->d_var_ceil > TV_R(0.0)) || cfg->contact_nis_gate < TV_R(0.0) || cfg->qr_ohm2_s < TV_R(0.0) ||
+        cfg->r_sigma0_ohm < TV_R(0.0) || !(cfg->dr_abs_max_ohm > TV_R(0.0)) ||
+        cfg->dr_excite_A < TV_R(0.0)) {
+        return TV_ERR_CONFIG;
+    }
+    /* the explicit resistance error must leave the current's decay per sub-step in (0, 1):
+     * a - b dR >= a / 2 over the whole bound */
+    if (model.b_A_V * cfg->dr_abs_max_ohm > TV_R(0.5) * model.a) {
         return TV_ERR_CONFIG;
     }
     if (!is_symmetric(&cfg->P0[0][0]) || !principal_minors_ok(&cfg->P0[0][0], 1) ||
@@ -273,49 +287,97 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     memcpy(ekf->P, cfg->P0, sizeof(mat3_t));
     /* the contact noise: a torque noise of density qc on the plate, nothing on the armature */
     (void)ekf_q_from_spectral(params, TV_R(0.0), cfg->qc_Nm2_s, ekf->Qc);
-    ekf->d_on = cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0);
+    ekf->aug_on = cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0) || cfg->qr_ohm2_s > TV_R(0.0);
     ekf->d_beta = TV_EXP(-params->Ts_s / cfg->d_tau_s);
+    if (cfg->qr_ohm2_s > TV_R(0.0)) {
+        ekf->Paa[TVM_A_DR][TVM_A_DR] = cfg->r_sigma0_ohm * cfg->r_sigma0_ohm;
+    }
     return TV_OK;
 }
 
-/* The contact-torque part of an estimate is sane: finite, var >= 0, |cov| <= sqrt(var var). */
-static int dist_sane(const tv_real_t *P, const tv_real_t Pxd[TVM_NX], tv_real_t Pdd, tv_real_t d)
+/* The augmented part of an estimate: a and the (co)variances holding it. */
+typedef struct {
+    tv_real_t a[TVM_NA];
+    tv_real_t Pxa[TVM_NX][TVM_NA];
+    tv_real_t Paa[TVM_NA][TVM_NA];
+} aug_part_t;
+
+/* The augmented part is sane: finite, variances >= 0, |cov| <= sqrt(var var) with x and within. */
+static int aug_sane(const tv_real_t *P, const aug_part_t *ap)
 {
-    const tv_real_t sum = d + Pxd[0] + Pxd[1] + Pxd[2] + Pdd;
     const tv_real_t slack = TV_R(1.0001);
-    return TV_IS_FINITE(sum) && Pdd >= TV_R(0.0) && Pxd[0] * Pxd[0] <= M3(P, 0, 0) * Pdd * slack &&
-           Pxd[1] * Pxd[1] <= M3(P, 1, 1) * Pdd * slack && Pxd[2] * Pxd[2] <= M3(P, 2, 2) * Pdd * slack;
+    tv_real_t sum = TV_R(0.0);
+    int a;
+    int q;
+    for (q = 0; q < TVM_NA; ++q) {
+        sum += ap->a[q] + ap->Paa[q][0] + ap->Paa[q][1];
+        if (ap->Paa[q][q] < TV_R(0.0)) {
+            return 0;
+        }
+        for (a = 0; a < TVM_NX; ++a) {
+            sum += ap->Pxa[a][q];
+            if (ap->Pxa[a][q] * ap->Pxa[a][q] > M3(P, a, a) * ap->Paa[q][q] * slack) {
+                return 0;
+            }
+        }
+    }
+    return TV_IS_FINITE(sum) && ap->Paa[0][1] * ap->Paa[0][1] <= ap->Paa[0][0] * ap->Paa[1][1] * slack;
 }
 
-/* var(d) held below its ceiling by scaling its row and column (as apply_variance_bounds). */
-static void bound_dist(tv_real_t Pxd[TVM_NX], tv_real_t *Pdd, tv_real_t ceil_)
+/* Each augmented variance held below its ceiling by scaling its row and column (as
+ * apply_variance_bounds); the resistance error also held inside its bound. */
+static void bound_aug(aug_part_t *ap, const ekf_config_t *cfg)
 {
-    if (*Pdd > ceil_) {
-        const tv_real_t s = TV_SQRT(ceil_ / *Pdd);
-        Pxd[0] *= s;
-        Pxd[1] *= s;
-        Pxd[2] *= s;
-        *Pdd = ceil_;
+    const tv_real_t ceil_[TVM_NA] = {cfg->d_var_ceil, cfg->dr_abs_max_ohm * cfg->dr_abs_max_ohm};
+    int q;
+    for (q = 0; q < TVM_NA; ++q) {
+        if (ap->Paa[q][q] > ceil_[q]) {
+            const tv_real_t f = TV_SQRT(ceil_[q] / ap->Paa[q][q]);
+            ap->Pxa[0][q] *= f;
+            ap->Pxa[1][q] *= f;
+            ap->Pxa[2][q] *= f;
+            ap->Paa[q][1 - q] *= f;
+            ap->Paa[1 - q][q] *= f;
+            ap->Paa[q][q] = ceil_[q];
+        }
+    }
+    if (ap->a[TVM_A_DR] > cfg->dr_abs_max_ohm) {
+        ap->a[TVM_A_DR] = cfg->dr_abs_max_ohm;
+    } else if (ap->a[TVM_A_DR] < -cfg->dr_abs_max_ohm) {
+        ap->a[TVM_A_DR] = -cfg->dr_abs_max_ohm;
     }
 }
 
+static void aug_get(const ekf_t *ekf, aug_part_t *ap)
+{
+    memcpy(ap->a, ekf->aug, sizeof ap->a);
+    memcpy(ap->Pxa, ekf->Pxa, sizeof ap->Pxa);
+    memcpy(ap->Paa, ekf->Paa, sizeof ap->Paa);
+}
+
+static void aug_put(ekf_t *ekf, const aug_part_t *ap)
+{
+    memcpy(ekf->aug, ap->a, sizeof ekf->aug);
+    memcpy(ekf->Pxa, ap->Pxa, sizeof ekf->Pxa);
+    memcpy(ekf->Paa, ap->Paa, sizeof ekf->Paa);
+}
+
 /*
- * P = F P F^T + Q (+ Qc when contact), bounds, sanity; see ekf_propagate(). With the contact
- * torque d (G = dx/dd, NULL = 0) the augmented covariance [[P, Pxd], [Pxd^T, Pdd]] goes through
- * [[F, G], [0, beta]]:  P <- (F P + G Pxd^T) F^T + (F Pxd + G Pdd) G^T,
- * Pxd <- beta (F Pxd + G Pdd),  Pdd <- beta^2 Pdd + qd,  d <- beta d.
+ * P = F P F^T + Q (+ Qc when contact), bounds, sanity; see ekf_propagate(). With the augmented
+ * states a (G = dx/da, NULL = 0; B = diag(beta): d decays outside the contact band, dR is a
+ * random walk) the covariance [[P, Pxa], [Pxa^T, Paa]] goes through [[F, G], [0, B]]:
+ *   P <- (F P + G Pxa^T) F^T + (F Pxa + G Paa) G^T,  Pxa <- (F Pxa + G Paa) B,
+ *   Paa <- B Paa B + Qa Ts,  a <- B a.
  */
 static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX],
-                     const tv_real_t G[TVM_NX], int contact)
+                     tv_real_t G[TVM_NX][TVM_NA], int contact)
 {
     mat3_t FP;
     mat3_t Pn;
     /* the band may be on (covariance inflation) with no contact noise: nothing to add then */
     const int add_qc = contact && ekf->cfg.qc_Nm2_s > TV_R(0.0);
-    tv_real_t FPd[TVM_NX] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
-    tv_real_t Pxd[TVM_NX] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
-    tv_real_t Pdd = TV_R(0.0);
-    tv_real_t d = TV_R(0.0);
+    tv_real_t FPa[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0)}, {TV_R(0.0), TV_R(0.0)}, {TV_R(0.0), TV_R(0.0)}};
+    aug_part_t ap;
     int a;
     int b;
     /* FP = F P */
@@ -326,26 +388,41 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
             FP[a][b] = F[a][0] * ekf->P[0][b] + F[a][1] * ekf->P[1][b] + F[a][2] * ekf->P[2][b];
         }
     }
-    if (ekf->d_on) {
-        const tv_real_t beta = contact ? TV_R(1.0) : ekf->d_beta;
-        const tv_real_t qd = (contact ? ekf->cfg.qd_contact_Nm2_s : ekf->cfg.qd_free_Nm2_s) * ekf->model.p.Ts_s;
+    memset(&ap, 0, sizeof ap);
+    if (ekf->aug_on) {
+        const tv_real_t beta[TVM_NA] = {contact ? TV_R(1.0) : ekf->d_beta, TV_R(1.0)};
+        const tv_real_t qa[TVM_NA] = {
+            (contact ? ekf->cfg.qd_contact_Nm2_s : ekf->cfg.qd_free_Nm2_s) * ekf->model.p.Ts_s,
+            ekf->cfg.qr_ohm2_s * ekf->model.p.Ts_s};
+        int q;
+        int r;
         TV_UNROLL3
         for (a = 0; a < TVM_NX; ++a) {
-            const tv_real_t g = G != NULL ? G[a] : TV_R(0.0);
-            FPd[a] = F[a][0] * ekf->Pxd[0] + F[a][1] * ekf->Pxd[1] + F[a][2] * ekf->Pxd[2] + g * ekf->Pdd;
-            TV_UNROLL3
-            for (b = 0; b < TVM_NX; ++b) {
-                FP[a][b] += g * ekf->Pxd[b];
+            for (q = 0; q < TVM_NA; ++q) {
+                const tv_real_t g = G != NULL ? G[a][q] : TV_R(0.0);
+                FPa[a][q] = F[a][0] * ekf->Pxa[0][q] + F[a][1] * ekf->Pxa[1][q] + F[a][2] * ekf->Pxa[2][q];
+                if (G != NULL) {
+                    FPa[a][q] += G[a][0] * ekf->Paa[0][q] + G[a][1] * ekf->Paa[1][q];
+                }
+                TV_UNROLL3
+                for (b = 0; b < TVM_NX; ++b) {
+                    FP[a][b] += g * ekf->Pxa[b][q];
+                }
             }
         }
-        TV_UNROLL3
-        for (a = 0; a < TVM_NX; ++a) {
-            Pxd[a] = beta * FPd[a];
+        for (q = 0; q < TVM_NA; ++q) {
+            TV_UNROLL3
+            for (a = 0; a < TVM_NX; ++a) {
+                ap.Pxa[a][q] = FPa[a][q] * beta[q];
+            }
+            for (r = 0; r < TVM_NA; ++r) {
+                ap.Paa[q][r] = beta[q] * beta[r] * ekf->Paa[q][r];
+            }
+            ap.Paa[q][q] += qa[q];
+            ap.a[q] = beta[q] * ekf->aug[q];
         }
-        Pdd = beta * beta * ekf->Pdd + qd;
-        d = beta * ekf->d;
     }
-    /* Pn = FP F^T (+ FPd G^T) + Q, upper triangle computed once and mirrored: exactly symmetric. */
+    /* Pn = FP F^T (+ FPa G^T) + Q, upper triangle computed once and mirrored: exactly symmetric. */
     TV_UNROLL3
     for (a = 0; a < TVM_NX; ++a) {
         TV_UNROLL3
@@ -354,25 +431,23 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
             if (add_qc) {
                 Pn[a][b] += ekf->Qc[a][b];
             }
-            if (ekf->d_on && G != NULL) {
-                Pn[a][b] += FPd[a] * G[b];
+            if (ekf->aug_on && G != NULL) {
+                Pn[a][b] += FPa[a][0] * G[b][0] + FPa[a][1] * G[b][1];
             }
             Pn[b][a] = Pn[a][b];
         }
     }
     apply_variance_bounds(Pn, ekf->cfg.var_floor, ekf->cfg.var_ceil, ekf->n_floor, ekf->n_ceil);
-    if (ekf->d_on) {
-        bound_dist(Pxd, &Pdd, ekf->cfg.d_var_ceil);
+    if (ekf->aug_on) {
+        bound_aug(&ap, &ekf->cfg);
     }
-    if (!estimate_sane(x_pred, &Pn[0][0]) || (ekf->d_on && !dist_sane(&Pn[0][0], Pxd, Pdd, d))) {
+    if (!estimate_sane(x_pred, &Pn[0][0]) || (ekf->aug_on && !aug_sane(&Pn[0][0], &ap))) {
         ++ekf->n_rejected;
         return TV_ERR_NUMERIC;
     }
     memcpy(ekf->x, x_pred, sizeof ekf->x);
     memcpy(ekf->P, Pn, sizeof(mat3_t));
-    memcpy(ekf->Pxd, Pxd, sizeof Pxd);
-    ekf->Pdd = Pdd;
-    ekf->d = d;
+    aug_put(ekf, &ap);
     ++ekf->n_predict;
     ekf->in_contact = contact;
     if (contact) {
@@ -393,7 +468,7 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
 {
     tv_real_t xn[TVM_NX];
     mat3_t F;
-    tv_real_t G[TVM_NX];
+    tv_real_t G[TVM_NX][TVM_NA];
     if (ekf == NULL) {
         return TV_ERR_NULL;
     }
@@ -405,8 +480,8 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
         ++ekf->n_rejected;
         return TV_ERR_RANGE;
     }
-    if (ekf->d_on) {
-        tvm_step_dist(&ekf->model, ekf->x, ekf->d, u_V, xn, F, G);
+    if (ekf->aug_on) {
+        tvm_step_aug(&ekf->model, ekf->x, ekf->aug, u_V, xn, F, G);
     } else {
         tvm_step(&ekf->model, ekf->x, u_V, xn, F);
     }
@@ -415,7 +490,7 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
         const tv_real_t band = ekf->cfg.contact_band_rad;
         const int contact = band > TV_R(0.0) && (xn[TVM_PHI] < ekf->model.p.phi_closed_rad + band ||
                                                  xn[TVM_PHI] > ekf->model.p.phi_open_rad - band);
-        return propagate(ekf, xn, F, ekf->d_on ? G : NULL, contact);
+        return propagate(ekf, xn, F, ekf->aug_on ? G : NULL, contact);
     }
 }
 
@@ -444,15 +519,8 @@ static int check_channel(const ekf_config_t *cfg, int ch, tv_real_t z)
  * The upper triangle is computed and mirrored, so P stays exactly symmetric.
  * Returns 0 on a non-positive innovation variance (nothing written).
  */
-/* The contact-torque part of the augmented state (NULL when there is none). */
-typedef struct {
-    tv_real_t d;
-    tv_real_t Pxd[TVM_NX];
-    tv_real_t Pdd;
-} dist_part_t;
-
-static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, dist_part_t *dp, int j, tv_real_t z, tv_real_t r,
-                         tv_real_t *innov, tv_real_t *innov_var)
+static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, aug_part_t *ap, int dr_frozen, int j, tv_real_t z,
+                         tv_real_t r, tv_real_t *innov, tv_real_t *innov_var)
 {
     tv_real_t K[TVM_NX];
     mat3_t A;
@@ -469,26 +537,41 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, dist_part_t *dp, int j, 
     for (a = 0; a < TVM_NX; ++a) {
         K[a] = P[a][j] * inv_s;
     }
-    if (dp != NULL) {
-        /* the same Joseph form on the augmented rows (d is index 3; P_jd = Pxd_j):
-         *   A_ad = Pxd_a - K_a Pxd_j,  A_aj as below,  A_dj = Pxd_j - Kd P_jj,  A_dd = Pdd - Kd Pxd_j
-         *   Pxd_a <- A_ad - A_aj Kd + r K_a Kd,  Pdd <- A_dd - A_dj Kd + r Kd^2 (old P throughout) */
-        const tv_real_t Kd = dp->Pxd[j] * inv_s;
-        const tv_real_t A_dj = dp->Pxd[j] - Kd * P[j][j];
-        const tv_real_t A_dd = dp->Pdd - Kd * dp->Pxd[j];
-        tv_real_t nPxd[TVM_NX];
+    if (ap != NULL) {
+        /* the same Joseph form on the augmented rows (P_jq = Pxa_jq; old P throughout):
+         *   A_aq = Pxa_aq - K_a Pxa_jq,  A_aj as below,  A_qj = Pxa_jq - Kq P_jj,  A_qr = Paa_qr - Kq Pxa_jr
+         *   Pxa_aq <- A_aq - A_aj Kq + r K_a Kq,  Paa_qr <- A_qr - A_qj Kr + r Kq Kr
+         * The Joseph form holds for any gain: a frozen dR gets gain 0 (Schmidt update). */
+        tv_real_t Ka[TVM_NA];
+        tv_real_t A_qj[TVM_NA];
+        tv_real_t nPxa[TVM_NX][TVM_NA];
+        tv_real_t nPaa[TVM_NA][TVM_NA];
+        int q;
+        int rr;
+        for (q = 0; q < TVM_NA; ++q) {
+            Ka[q] = (q == TVM_A_DR && dr_frozen) ? TV_R(0.0) : ap->Pxa[j][q] * inv_s;
+            A_qj[q] = ap->Pxa[j][q] - Ka[q] * P[j][j];
+        }
         TV_UNROLL3
         for (a = 0; a < TVM_NX; ++a) {
-            const tv_real_t A_ad = dp->Pxd[a] - K[a] * dp->Pxd[j];
             const tv_real_t A_aj = P[a][j] - K[a] * P[j][j];
-            nPxd[a] = A_ad - A_aj * Kd + r * K[a] * Kd;
+            for (q = 0; q < TVM_NA; ++q) {
+                const tv_real_t A_aq = ap->Pxa[a][q] - K[a] * ap->Pxa[j][q];
+                nPxa[a][q] = A_aq - A_aj * Ka[q] + r * K[a] * Ka[q];
+            }
         }
-        TV_UNROLL3
-        for (a = 0; a < TVM_NX; ++a) {
-            dp->Pxd[a] = nPxd[a];
+        for (q = 0; q < TVM_NA; ++q) {
+            for (rr = q; rr < TVM_NA; ++rr) {
+                const tv_real_t A_qr = ap->Paa[q][rr] - Ka[q] * ap->Pxa[j][rr];
+                nPaa[q][rr] = A_qr - A_qj[q] * Ka[rr] + r * Ka[q] * Ka[rr];
+                nPaa[rr][q] = nPaa[q][rr];
+            }
         }
-        dp->Pdd = A_dd - A_dj * Kd + r * Kd * Kd;
-        dp->d += Kd * y;
+        memcpy(ap->Pxa, nPxa, sizeof nPxa);
+        memcpy(ap->Paa, nPaa, sizeof nPaa);
+        for (q = 0; q < TVM_NA; ++q) {
+            ap->a[q] += Ka[q] * y;
+        }
     }
     TV_UNROLL3
     for (a = 0; a < TVM_NX; ++a) {
@@ -553,7 +636,8 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     ekf_innov_t res;
     tv_real_t x[TVM_NX];
     mat3_t P;
-    dist_part_t dp;
+    aug_part_t ap;
+    int dr_frozen;
     uint8_t use[EKF_NCH];
     uint32_t n_inflate = 0u;
     int ch;
@@ -589,16 +673,16 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     res.n_used = 0;
     memcpy(x, ekf->x, sizeof x);
     memcpy(P, ekf->P, sizeof(mat3_t));
-    dp.d = ekf->d;
-    memcpy(dp.Pxd, ekf->Pxd, sizeof dp.Pxd);
-    dp.Pdd = ekf->Pdd;
+    aug_get(ekf, &ap);
+    /* dR is observed through the voltage dR i: frozen while the current is small */
+    dr_frozen = TV_FABS(x[TVM_I]) < ekf->cfg.dr_excite_A;
     for (ch = 0; ch < EKF_NCH; ++ch) {
         if (use[ch]) {
             if (ch == EKF_CH_ANGLE && ekf->in_contact && ekf->cfg.contact_nis_gate > TV_R(0.0) &&
                 inflate_at_contact(x[TVM_PHI], P, meas->z[ch], ekf->cfg.r[ch], ekf->cfg.contact_nis_gate, ekf->model.p.Ts_s)) {
                 ++n_inflate;
             }
-            if (!scalar_update(x, P, ekf->d_on ? &dp : NULL, channel_state[ch], meas->z[ch], ekf->cfg.r[ch], &res.innov[ch],
+            if (!scalar_update(x, P, ekf->aug_on ? &ap : NULL, dr_frozen, channel_state[ch], meas->z[ch], ekf->cfg.r[ch], &res.innov[ch],
                                &res.innov_var[ch])) {
                 ++ekf->n_rejected;
                 if (out != NULL) {
@@ -613,11 +697,11 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
         }
     }
     apply_variance_bounds(P, ekf->cfg.var_floor, ekf->cfg.var_ceil, ekf->n_floor, ekf->n_ceil);
-    if (ekf->d_on) {
-        bound_dist(dp.Pxd, &dp.Pdd, ekf->cfg.d_var_ceil);
+    if (ekf->aug_on) {
+        bound_aug(&ap, &ekf->cfg);
     }
     if (!estimate_sane(x, &P[0][0]) || !TV_IS_FINITE(res.nis_total) ||
-        (ekf->d_on && !dist_sane(&P[0][0], dp.Pxd, dp.Pdd, dp.d))) {
+        (ekf->aug_on && !aug_sane(&P[0][0], &ap))) {
         ++ekf->n_rejected;
         if (out != NULL) {
             memset(out, 0, sizeof *out);
@@ -626,9 +710,7 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     }
     memcpy(ekf->x, x, sizeof x);
     memcpy(ekf->P, P, sizeof(mat3_t));
-    ekf->d = dp.d;
-    memcpy(ekf->Pxd, dp.Pxd, sizeof dp.Pxd);
-    ekf->Pdd = dp.Pdd;
+    aug_put(ekf, &ap);
     if (res.n_used > 0u) {
         ++ekf->n_correct;
     }
@@ -717,8 +799,14 @@ void ekf_stops(const ekf_t *ekf, tv_real_t *phi_closed_rad, tv_real_t *phi_open_
 
 void ekf_contact_torque(const ekf_t *ekf, tv_real_t *d_Nm, tv_real_t *sigma_Nm)
 {
-    *d_Nm = ekf->d;
-    *sigma_Nm = TV_SQRT(ekf->Pdd);
+    *d_Nm = ekf->aug[TVM_A_TORQUE];
+    *sigma_Nm = TV_SQRT(ekf->Paa[TVM_A_TORQUE][TVM_A_TORQUE]);
+}
+
+void ekf_resistance_error(const ekf_t *ekf, tv_real_t *dR_ohm, tv_real_t *sigma_ohm)
+{
+    *dR_ohm = ekf->aug[TVM_A_DR];
+    *sigma_ohm = TV_SQRT(ekf->Paa[TVM_A_DR][TVM_A_DR]);
 }
 
 void ekf_health(const ekf_t *ekf, ekf_health_t *h)

@@ -53,6 +53,13 @@ extern "C" {
 #define EKF_DEFAULT_QD_FREE_NM2_S TV_R(0.0)
 #define EKF_DEFAULT_D_TAU_S TV_R(0.005)
 
+/** Default winding-resistance error state (ekf_config_t::qr_ohm2_s ...): density, initial sigma,
+ *  bound. */
+#define EKF_DEFAULT_QR_OHM2_S TV_R(1.0e-2)
+#define EKF_DEFAULT_R_SIGMA0_OHM TV_R(0.5)
+#define EKF_DEFAULT_DR_ABS_MAX_OHM TV_R(3.0)
+#define EKF_DEFAULT_DR_EXCITE_A TV_R(0.2)
+
 /** Default contact covariance-inflation gate (ekf_config_t::contact_nis_gate): 9 (a 3-sigma
  *  angle innovation). Chosen on the TRAINING units (population --first-unit 0, 30 units x 8
  *  scenarios, README "Stop contact"): against 0 (off), NEES run average max 186 -> 14, largest
@@ -112,6 +119,25 @@ typedef struct {
     tv_real_t d_tau_s;                  /**< decay time of the contact torque outside the band [s], > 0 */
     tv_real_t d_var_ceil;               /**< upper bound on the contact torque's variance [N^2 m^2], > 0 */
     /**
+     * Winding-resistance error dR (README "Robust estimation"): a state [ohm] that the model's
+     * winding resistance lacks (R + dR: temperature, wear, a unit other than the model's), a
+     * random walk of density qr_ohm2_s [ohm^2/s] starting at 0 with standard deviation
+     * r_sigma0_ohm. It is observed only while current flows (the voltage it explains is dR i), so
+     * with no current its estimate holds and its sigma grows by the random walk alone. The
+     * estimate is held inside +-dr_abs_max_ohm. qr_ohm2_s = 0: no such state. >= 0; r_sigma0_ohm
+     * >= 0; dr_abs_max_ohm > 0 and small enough that the explicit step stays stable
+     * (tvm_step_aug(): checked in ekf_init()).
+     */
+    tv_real_t qr_ohm2_s;
+    tv_real_t r_sigma0_ohm;             /**< initial standard deviation of dR [ohm], >= 0 */
+    tv_real_t dr_abs_max_ohm;           /**< bound on |dR| [ohm], > 0 */
+    /**
+     * dR is updated only while the current estimate's magnitude is at least this [A], >= 0:
+     * below it the update is a Schmidt (consider) update, with dR's gain 0 and its covariance
+     * carried exactly, so measurement noise at rest does not walk the estimate (frozen).
+     */
+    tv_real_t dr_excite_A;
+    /**
      * Contact covariance inflation (README "Stop contact"): when the predicted angle is in the
      * contact band and the angle innovation's NIS exceeds this gate, the mechanical rows and
      * columns of the covariance (w, phi and the contact torque) are scaled by the factor that
@@ -138,12 +164,14 @@ typedef struct {
     uint32_t n_stop_moves;              /**< times a stop was moved out (stop learning) */
     int in_contact;                     /**< the last prediction ended in the contact band */
     uint32_t n_inflate;                 /**< corrections that inflated the covariance (contact_nis_gate) */
-    /* the contact-torque state (qd_* > 0): estimate, its covariance with x, its variance */
-    int d_on;                           /**< 1 when the contact-torque state is in use */
-    tv_real_t d_beta;                   /**< exp(-Ts / d_tau_s): decay per period outside the band */
-    tv_real_t d;                        /**< contact torque estimate [N m], positive = opening */
-    tv_real_t Pxd[TVM_NX];              /**< cov(x, d) (A N m, rad/s N m, rad N m) */
-    tv_real_t Pdd;                      /**< var(d) [N^2 m^2] */
+    /* the augmented states a = (contact torque d [N m], resistance error dR [ohm]), index
+     * TVM_A_TORQUE / TVM_A_DR (tv_model.h): estimate, covariance with x, covariance. A state that
+     * is off keeps a = 0 and zero (co)variances, so it changes nothing. */
+    int aug_on;                         /**< 1 when any augmented state is in use (else the 3-state filter, exactly) */
+    tv_real_t d_beta;                   /**< exp(-Ts / d_tau_s): decay per period of d outside the band */
+    tv_real_t aug[TVM_NA];              /**< augmented estimate (N m, ohm) */
+    tv_real_t Pxa[TVM_NX][TVM_NA];      /**< cov(x, a) */
+    tv_real_t Paa[TVM_NA][TVM_NA];      /**< cov(a, a) */
 } ekf_t;
 
 /**
@@ -271,6 +299,12 @@ int ekf_set_stops(ekf_t *ekf, tv_real_t phi_closed_rad, tv_real_t phi_open_rad);
  * when the configuration has no contact-torque state.
  */
 void ekf_contact_torque(const ekf_t *ekf, tv_real_t *d_Nm, tv_real_t *sigma_Nm);
+
+/**
+ * The winding-resistance error estimate dR [ohm] (the filter's winding is R + dR) and its
+ * standard deviation; both 0 when the configuration has no such state.
+ */
+void ekf_resistance_error(const ekf_t *ekf, tv_real_t *dR_ohm, tv_real_t *sigma_ohm);
 
 /**
  * Replace the stop contact law of the filter's model (a learned law: stop_learn.h): stiffness k

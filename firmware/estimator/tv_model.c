@@ -9,6 +9,7 @@
 #include "tv_status.h"
 
 #include <stddef.h>
+#include <string.h>
 
 void tvm_params_default(tvm_params_t *p)
 {
@@ -191,15 +192,32 @@ void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_
 void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv_real_t u_V,
                    tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX])
 {
+    const tv_real_t a_in[TVM_NA] = {d_Nm, TV_R(0.0)};
+    tv_real_t Gaug[TVM_NX][TVM_NA];
+    tvm_step_aug(m, x, a_in, u_V, x_next, F, G != NULL ? Gaug : NULL);
+    if (F != NULL && G != NULL) {
+        G[0] = Gaug[0][TVM_A_TORQUE];
+        G[1] = Gaug[1][TVM_A_TORQUE];
+        G[2] = Gaug[2][TVM_A_TORQUE];
+    }
+}
+
+void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_in[TVM_NA], tv_real_t u_V,
+                  tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA])
+{
     const tvm_params_t *p = &m->p;
+    const tv_real_t d_Nm = a_in[TVM_A_TORQUE];
+    const tv_real_t dR = a_in[TVM_A_DR];
+    /* current decay per sub-step with the resistance error taken explicitly */
+    const tv_real_t a_i = m->a - m->b_A_V * dR;
     tv_real_t i = x[TVM_I];
     tv_real_t w = x[TVM_W];
     tv_real_t phi = x[TVM_PHI];
     tv_real_t Fa[TVM_NX][TVM_NX] = {{TV_R(1.0), TV_R(0.0), TV_R(0.0)},
                                     {TV_R(0.0), TV_R(1.0), TV_R(0.0)},
                                     {TV_R(0.0), TV_R(0.0), TV_R(1.0)}};
-    /* d x / d d_Nm, accumulated through the sub-steps: Ga <- S Ga + (0, dw1/dd, h dw1/dd) */
-    tv_real_t Ga[TVM_NX] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
+    /* d x / d a, accumulated through the sub-steps: Ga <- S Ga + (di1/da, dw1/da, h dw1/da) */
+    tv_real_t Ga[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0)}, {TV_R(0.0), TV_R(0.0)}, {TV_R(0.0), TV_R(0.0)}};
     int k;
 
     for (k = 0; k < p->substeps; ++k) {
@@ -207,7 +225,7 @@ void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv
         tv_real_t dMs_dphi;
         tv_real_t dMs_dw;
         tv_real_t dg_dw;
-        const tv_real_t i1 = m->a * i + m->b_A_V * (u_V - m->nKe_V_s * w);
+        const tv_real_t i1 = a_i * i + m->b_A_V * (u_V - m->nKe_V_s * w);
         const tv_real_t sp = preload_sign(phi, p->e_phi_rad, &dsp);
         const tv_real_t mstop = stop_torque(m, phi, w, &dMs_dphi, &dMs_dw);
         const tv_real_t torque = m->nKt_Nm_A * i1 - p->M0_Nm * sp - p->c_Nm_rad * phi + mstop + d_Nm;
@@ -224,12 +242,12 @@ void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv
             tv_real_t S[TVM_NX][TVM_NX];
             tv_real_t T[TVM_NX][TVM_NX];
             const tv_real_t di1_dw = -m->b_A_V * m->nKe_V_s;
-            const tv_real_t dT_di = m->nKt_Nm_A * m->a;
+            const tv_real_t dT_di = m->nKt_Nm_A * a_i;
             const tv_real_t dT_dw = m->nKt_Nm_A * di1_dw + dMs_dw;
             const tv_real_t dT_dphi = -p->M0_Nm * dsp - p->c_Nm_rad + dMs_dphi;
             int r;
             int c;
-            S[0][0] = m->a;
+            S[0][0] = a_i;
             S[0][1] = di1_dw;
             S[0][2] = TV_R(0.0);
             if (slipping) {
@@ -246,13 +264,21 @@ void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv
             S[2][1] = m->h_s * S[1][1];
             S[2][2] = TV_R(1.0) + m->h_s * S[1][2];
             if (G != NULL) {
-                const tv_real_t dw1_dd = slipping ? m->kappa * m->h_J : TV_R(0.0);
-                const tv_real_t g0 = S[0][0] * Ga[0] + S[0][1] * Ga[1] + S[0][2] * Ga[2];
-                const tv_real_t g1 = S[1][0] * Ga[0] + S[1][1] * Ga[1] + S[1][2] * Ga[2] + dw1_dd;
-                const tv_real_t g2 = S[2][0] * Ga[0] + S[2][1] * Ga[1] + S[2][2] * Ga[2] + m->h_s * dw1_dd;
-                Ga[0] = g0;
-                Ga[1] = g1;
-                Ga[2] = g2;
+                /* direct effects of this sub-step: the torque acts on w1 alone; the resistance
+                 * error on i1 (-b i) and, through the torque n Kt i1, on w1 */
+                const tv_real_t di1_da[TVM_NA] = {TV_R(0.0), -m->b_A_V * i};
+                const tv_real_t dw1_dT = slipping ? m->kappa * m->h_J : TV_R(0.0);
+                const tv_real_t dw1_da[TVM_NA] = {dw1_dT, dw1_dT * m->nKt_Nm_A * di1_da[TVM_A_DR]};
+                int q;
+                for (q = 0; q < TVM_NA; ++q) {
+                    const tv_real_t g0 = S[0][0] * Ga[0][q] + S[0][1] * Ga[1][q] + S[0][2] * Ga[2][q] + di1_da[q];
+                    const tv_real_t g1 = S[1][0] * Ga[0][q] + S[1][1] * Ga[1][q] + S[1][2] * Ga[2][q] + dw1_da[q];
+                    const tv_real_t g2 =
+                        S[2][0] * Ga[0][q] + S[2][1] * Ga[1][q] + S[2][2] * Ga[2][q] + m->h_s * dw1_da[q];
+                    Ga[0][q] = g0;
+                    Ga[1][q] = g1;
+                    Ga[2][q] = g2;
+                }
             }
             mat3_mul(S, Fa, T);
             for (r = 0; r < TVM_NX; ++r) {
@@ -277,9 +303,7 @@ void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv
             }
         }
         if (G != NULL) {
-            G[0] = Ga[0];
-            G[1] = Ga[1];
-            G[2] = Ga[2];
+            memcpy(G, Ga, sizeof Ga);
         }
     }
 }

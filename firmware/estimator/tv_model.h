@@ -153,6 +153,21 @@ void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_
 void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv_real_t u_V,
                    tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX]);
 
+/** Augmented (disturbance) inputs of tvm_step_aug(): a torque on the plate and a winding-resistance error. */
+enum { TVM_A_TORQUE = 0, TVM_A_DR = 1, TVM_NA = 2 };
+
+/**
+ * tvm_step() with the augmented inputs a = (d_Nm, dR_ohm) held over Ts: an extra torque d_Nm on
+ * the plate [N m] (positive = opening) and an error dR_ohm of the winding resistance [ohm] (the
+ * winding is R + dR). The error enters each sub-step explicitly, as the voltage -dR i at the
+ * sub-step's initial current: i1 = a i + b (u - n Ke w - dR i), stable while |b dR| < a (the EKF
+ * bounds dR far inside that). With a = 0 it is tvm_step() exactly. G, when F and G are both
+ * given, receives dx_next/da (column TVM_A_TORQUE: d/dd_Nm, TVM_A_DR: d/ddR_ohm), by the same
+ * chain rule through the sub-steps as F; G is ignored when F is NULL.
+ */
+void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_in[TVM_NA], tv_real_t u_V,
+                  tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA]);
+
 #ifdef __cplusplus
 }
 #endif
