@@ -118,7 +118,7 @@ static void test_contact_torque_state(void)
         double F5[N][N] = {{0}};
         const double beta = exp(-1e-3 / 0.02);
         const double u = 5.0;
-        tvm_step_aug(&f.model, f.x, f.aug, u, xn, F, G);
+        tvm_step_aug(&f.model, f.x, f.aug, u, xn, F, G, TVM_G_ALL);
         for (a = 0; a < 3; ++a) {
             for (b = 0; b < 3; ++b) {
                 F5[a][b] = F[a][b];

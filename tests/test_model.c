@@ -269,7 +269,7 @@ static void test_disturbance_column(void)
         x[0] = uniform(-3.0, 3.0);
         x[1] = uniform(-40.0, 40.0);
         x[2] = uniform(m.p.phi_closed_rad - 0.005, m.p.phi_open_rad + 0.005);
-        tvm_step_aug(&m, x, a, u, f0, F, G);
+        tvm_step_aug(&m, x, a, u, f0, F, G, TVM_G_ALL);
         if (zero) {
             tvm_step(&m, x, u, fref, NULL);
             for (r = 0; r < 3; ++r) {
@@ -293,8 +293,8 @@ static void test_disturbance_column(void)
             ap[1] = am[1] = a[1];
             ap[q] += h;
             am[q] -= h;
-            tvm_step_aug(&m, x, ap, u, fp, NULL, NULL);
-            tvm_step_aug(&m, x, am, u, fm, NULL, NULL);
+            tvm_step_aug(&m, x, ap, u, fp, NULL, NULL, TVM_G_ALL);
+            tvm_step_aug(&m, x, am, u, fm, NULL, NULL, TVM_G_ALL);
             for (r = 0; r < 3; ++r) {
                 const double g = G[r][q];
                 const double central = (fp[r] - fm[r]) / (2.0 * h);
@@ -322,7 +322,7 @@ static void test_disturbance_column(void)
         TV_CHECK_EQ_INT(tvm_init(&m0, &p), TV_OK);
         p.R_ohm += 0.8;
         TV_CHECK_EQ_INT(tvm_init(&m1, &p), TV_OK);
-        tvm_step_aug(&m0, x0, a, 6.0, xa, NULL, NULL);
+        tvm_step_aug(&m0, x0, a, 6.0, xa, NULL, NULL, TVM_G_ALL);
         tvm_step(&m1, x0, 6.0, xe, NULL);
         /* exact: 6 / 5.1 (1 - exp(-5.1 ms / 2 ms)); the explicit form is first order in h dR / L */
         TV_CHECK_NEAR(xe[0], 6.0 / 5.1 * (1.0 - exp(-5.1e-3 / 0.002)), 1e-9);

@@ -100,7 +100,7 @@ typedef struct {
      * predicts once per elapsed period, so this bounds its worst-case time: (1 + missing)
      * predictions. Longer gaps, or time going backwards, latch APP_FAULT_TIMING and predict
      * only this many periods. Default APP_MAX_GAP_PERIODS (replay of bench logs); a real-time
-     * target sets what its budget allows (the ECU: 4, about 12,600 instructions).
+     * target sets what its budget allows (the ECU: 4, about 16,100 instructions).
      */
     uint16_t max_gap_periods;
 } app_limits_t;

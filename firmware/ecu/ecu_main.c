@@ -210,7 +210,8 @@ int main(void)
 
     app_config_default(&cfg);
     /* Bound the control interrupt's worst case: at most 3 missed periods are predicted across
-     * in one step (4 predictions, ~12,600 instructions of the 16,800-cycle budget); a longer
+     * in one step (4 predictions, ~16,100 QEMU-counted instructions with the resistance-error state, of
+     * the 16,800-cycle budget: firmware_report, "after lost samples"); a longer
      * gap latches APP_FAULT_TIMING. */
     cfg.limits.max_gap_periods = 4u;
     can_proto_config_default(&pcfg);

@@ -18,6 +18,11 @@ typedef tv_real_t mat3_t[TVM_NX][TVM_NX];
 #else
 #define TV_UNROLL3
 #endif
+#if defined(__GNUC__)
+#define TV_UNROLL2 _Pragma("GCC unroll 2")
+#else
+#define TV_UNROLL2
+#endif
 
 /* Matrices cross function boundaries as flat row-major pointers (C99 does not convert
  * T (*)[3] to const T (*)[3] implicitly). */
@@ -288,6 +293,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     /* the contact noise: a torque noise of density qc on the plate, nothing on the armature */
     (void)ekf_q_from_spectral(params, TV_R(0.0), cfg->qc_Nm2_s, ekf->Qc);
     ekf->aug_on = cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0) || cfg->qr_ohm2_s > TV_R(0.0);
+    ekf->g_cols = ((cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0)) ? 1u << TVM_A_TORQUE : 0u) |
+                  (cfg->qr_ohm2_s > TV_R(0.0) ? 1u << TVM_A_DR : 0u);
     ekf->d_beta = TV_EXP(-params->Ts_s / cfg->d_tau_s);
     if (cfg->qr_ohm2_s > TV_R(0.0)) {
         ekf->Paa[TVM_A_DR][TVM_A_DR] = cfg->r_sigma0_ohm * cfg->r_sigma0_ohm;
@@ -398,6 +405,7 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
         int r;
         TV_UNROLL3
         for (a = 0; a < TVM_NX; ++a) {
+            TV_UNROLL2
             for (q = 0; q < TVM_NA; ++q) {
                 const tv_real_t g = G != NULL ? G[a][q] : TV_R(0.0);
                 FPa[a][q] = F[a][0] * ekf->Pxa[0][q] + F[a][1] * ekf->Pxa[1][q] + F[a][2] * ekf->Pxa[2][q];
@@ -410,11 +418,13 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
                 }
             }
         }
+        TV_UNROLL2
         for (q = 0; q < TVM_NA; ++q) {
             TV_UNROLL3
             for (a = 0; a < TVM_NX; ++a) {
                 ap.Pxa[a][q] = FPa[a][q] * beta[q];
             }
+            TV_UNROLL2
             for (r = 0; r < TVM_NA; ++r) {
                 ap.Paa[q][r] = beta[q] * beta[r] * ekf->Paa[q][r];
             }
@@ -481,7 +491,7 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
         return TV_ERR_RANGE;
     }
     if (ekf->aug_on) {
-        tvm_step_aug(&ekf->model, ekf->x, ekf->aug, u_V, xn, F, G);
+        tvm_step_aug(&ekf->model, ekf->x, ekf->aug, u_V, xn, F, G, ekf->g_cols);
     } else {
         tvm_step(&ekf->model, ekf->x, u_V, xn, F);
     }
@@ -548,6 +558,7 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, aug_part_t *ap, int dr_f
         tv_real_t nPaa[TVM_NA][TVM_NA];
         int q;
         int rr;
+        TV_UNROLL2
         for (q = 0; q < TVM_NA; ++q) {
             Ka[q] = (q == TVM_A_DR && dr_frozen) ? TV_R(0.0) : ap->Pxa[j][q] * inv_s;
             A_qj[q] = ap->Pxa[j][q] - Ka[q] * P[j][j];
@@ -555,12 +566,15 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, aug_part_t *ap, int dr_f
         TV_UNROLL3
         for (a = 0; a < TVM_NX; ++a) {
             const tv_real_t A_aj = P[a][j] - K[a] * P[j][j];
+            TV_UNROLL2
             for (q = 0; q < TVM_NA; ++q) {
                 const tv_real_t A_aq = ap->Pxa[a][q] - K[a] * ap->Pxa[j][q];
                 nPxa[a][q] = A_aq - A_aj * Ka[q] + r * K[a] * Ka[q];
             }
         }
+        TV_UNROLL2
         for (q = 0; q < TVM_NA; ++q) {
+            TV_UNROLL2
             for (rr = q; rr < TVM_NA; ++rr) {
                 const tv_real_t A_qr = ap->Paa[q][rr] - Ka[q] * ap->Pxa[j][rr];
                 nPaa[q][rr] = A_qr - A_qj[q] * Ka[rr] + r * Ka[q] * Ka[rr];
@@ -569,6 +583,7 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, aug_part_t *ap, int dr_f
         }
         memcpy(ap->Pxa, nPxa, sizeof nPxa);
         memcpy(ap->Paa, nPaa, sizeof nPaa);
+        TV_UNROLL2
         for (q = 0; q < TVM_NA; ++q) {
             ap->a[q] += Ka[q] * y;
         }

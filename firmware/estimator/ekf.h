@@ -168,6 +168,7 @@ typedef struct {
      * TVM_A_TORQUE / TVM_A_DR (tv_model.h): estimate, covariance with x, covariance. A state that
      * is off keeps a = 0 and zero (co)variances, so it changes nothing. */
     int aug_on;                         /**< 1 when any augmented state is in use (else the 3-state filter, exactly) */
+    unsigned g_cols;                    /**< the augmented states in use (tvm_step_aug()'s g_cols: bit TVM_A_*) */
     tv_real_t d_beta;                   /**< exp(-Ts / d_tau_s): decay per period of d outside the band */
     tv_real_t aug[TVM_NA];              /**< augmented estimate (N m, ohm) */
     tv_real_t Pxa[TVM_NX][TVM_NA];      /**< cov(x, a) */

@@ -155,6 +155,8 @@ void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv
 
 /** Augmented (disturbance) inputs of tvm_step_aug(): a torque on the plate and a winding-resistance error. */
 enum { TVM_A_TORQUE = 0, TVM_A_DR = 1, TVM_NA = 2 };
+/** g_cols of tvm_step_aug(): every column of G. */
+#define TVM_G_ALL ((1u << TVM_NA) - 1u)
 
 /**
  * tvm_step() with the augmented inputs a = (d_Nm, dR_ohm) held over Ts: an extra torque d_Nm on
@@ -163,10 +165,13 @@ enum { TVM_A_TORQUE = 0, TVM_A_DR = 1, TVM_NA = 2 };
  * sub-step's initial current: i1 = a i + b (u - n Ke w - dR i), stable while |b dR| < a (the EKF
  * bounds dR far inside that). With a = 0 it is tvm_step() exactly. G, when F and G are both
  * given, receives dx_next/da (column TVM_A_TORQUE: d/dd_Nm, TVM_A_DR: d/ddR_ohm), by the same
- * chain rule through the sub-steps as F; G is ignored when F is NULL.
+ * chain rule through the sub-steps as F; G is ignored when F is NULL. g_cols selects the columns
+ * computed (bit q: column q; TVM_G_ALL for both); the others are set to 0 (the EKF asks only for
+ * the columns of the states it carries: each costs about 10 % of the map).
  */
 void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_in[TVM_NA], tv_real_t u_V,
-                  tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA]);
+                  tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA],
+                  unsigned g_cols);
 
 #ifdef __cplusplus
 }
