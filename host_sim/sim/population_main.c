@@ -6,8 +6,9 @@
  *
  * UNITS. Unit IDs below POP_FIRST_EVAL_UNIT are the TRAINING set (tools/tune_noise.py tunes
  * on them); the benchmark scores the EVALUATION set, IDs from POP_FIRST_EVAL_UNIT on. Every
- * third unit (ID % 3 == 2) is of class B, the others of class A. Plant noise seeds of the
- * evaluation are 1 .. S; training uses 1001 .. (disjoint as well).
+ * third unit (ID % 3 == 2) is of class B, the others of class A. Plant noise seeds are
+ * F .. F + S - 1 (--first-seed F, default 1); tools/tune_noise.py trains with F = 1001, so its
+ * noise is disjoint from the evaluation's as well.
  *
  * SECTIONS. stops_varied: plant_draw(PLANT_SPREAD_STOPS) (stops, contact, sensor front end
  * varied; motor, friction and springs nominal in plant and filter alike); all_varied:
@@ -139,16 +140,18 @@ static void usage(FILE *f)
 {
     int k;
     fprintf(f,
-            "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--scenarios A,B,...] [--duration S]\n"
-            "          [--sections stops,all] [--params FILE] [--stop-learning on|off] [--json PATH]\n"
-            "          [--runs-csv PATH] [--params-out DIR] [--quick] [--help]\n"
+            "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--first-seed F] [--scenarios A,B,...]\n"
+            "          [--duration S] [--sections stops,all] [--params FILE] [--stop-learning on|off]\n"
+            "          [--json PATH] [--runs-csv PATH] [--params-out DIR] [--quick] [--help]\n"
             "\n"
             "Runs the application's estimator (double build) on a population of throttles\n"
             "(host_sim/plant/plant_draw.h) over a scenario mix and scores its velocity against\n"
             "differentiating the measured angle, and its consistency (NEES, consistency monitor).\n"
             "\n"
             "  --plants N        units per section, 1..%u (default 30; every third is class b)\n"
-            "  --seeds S         plant noise seeds 1..S per unit and scenario, 1..%u (default 3)\n"
+            "  --seeds S         plant noise seeds per unit and scenario, 1..%u (default 3)\n"
+            "  --first-seed F    first plant noise seed (default 1: seeds F .. F + S - 1;\n"
+            "                    tools/tune_noise.py trains on 1001 ..)\n"
             "  --first-unit ID   first unit ID (default %u: the evaluation set; IDs below it are\n"
             "                    the training set of tools/tune_noise.py)\n"
             "  --scenarios LIST  comma-separated (default: all but stuck_release):",
@@ -280,6 +283,7 @@ int main(int argc, char **argv)
     unsigned long long plants = 30u;
     unsigned long long seeds = 3u;
     unsigned long long first_unit = POP_FIRST_EVAL_UNIT;
+    unsigned long long first_seed = 1u;
     double duration_s = 0.0;
     int use_scn[SIM_SCN_COUNT];
     int sections[2] = {1, 1};
@@ -293,7 +297,7 @@ int main(int argc, char **argv)
     FILE *csv = NULL;
     int k;
     int sec;
-    static const char *const takes_value[] = {"--plants", "--seeds", "--first-unit", "--scenarios", "--duration",
+    static const char *const takes_value[] = {"--plants", "--seeds", "--first-unit", "--first-seed", "--scenarios", "--duration",
                                               "--sections", "--params", "--json", "--runs-csv", "--stop-learning",
                                               "--params-out", NULL};
     int stop_learning = 1;
@@ -321,7 +325,8 @@ int main(int argc, char **argv)
             return CLI_EXIT_USAGE;
         }
         ++k;
-        if (strcmp(a, "--plants") == 0 || strcmp(a, "--seeds") == 0 || strcmp(a, "--first-unit") == 0) {
+        if (strcmp(a, "--plants") == 0 || strcmp(a, "--seeds") == 0 || strcmp(a, "--first-unit") == 0 ||
+            strcmp(a, "--first-seed") == 0) {
             if (cli_parse_u64(v, &u) != 0) {
                 return usage_error("option %s: '%s' is not an unsigned integer", a, v);
             }
@@ -335,6 +340,11 @@ int main(int argc, char **argv)
                     return usage_error("option %s: %s is out of range (1 .. %u)", a, v, POP_SEEDS_MAX);
                 }
                 seeds = u;
+            } else if (strcmp(a, "--first-seed") == 0) {
+                if (u < 1u || u > 1000000u) {
+                    return usage_error("option %s: %s is out of range (1 .. 1000000)", a, v);
+                }
+                first_seed = u;
             } else {
                 first_unit = u;
             }
@@ -474,7 +484,7 @@ int main(int argc, char **argv)
                 if (!use_scn[k]) {
                     continue;
                 }
-                for (s = 1; s <= seeds; ++s) {
+                for (s = first_seed; s < first_seed + seeds; ++s) {
                     sim_options_t opt;
                     sim_result_t r;
                     pop_run_t *run;
@@ -529,8 +539,9 @@ int main(int argc, char **argv)
         if (!sections[sec]) {
             continue;
         }
-        printf("\n%s: units %llu..%llu, seeds 1..%llu (ratio = differentiation RMSE / filter RMSE, velocity)\n",
-               sec == 0 ? "stops_varied" : "all_varied", first_unit, first_unit + plants - 1u, seeds);
+        printf("\n%s: units %llu..%llu, seeds %llu..%llu (ratio = differentiation RMSE / filter RMSE, velocity)\n",
+               sec == 0 ? "stops_varied" : "all_varied", first_unit, first_unit + plants - 1u, first_seed,
+               first_seed + seeds - 1u);
         printf("  %-14s %5s  %8s  %8s  %9s  %9s  %9s  %5s  %5s\n", "scenario", "runs", "worst", "median", "NEES min",
                "NEES max", "NEES 0.1s", "flag", "fault");
         for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
@@ -556,8 +567,8 @@ int main(int argc, char **argv)
     }
     fprintf(f, "{\n  \"nominal_paper_sine_velocity_rmse_rad_s\": ");
     json_num(f, nominal_rmse);
-    fprintf(f, ",\n  \"units\": [%llu, %llu],\n  \"evaluation_set\": %s,\n  \"seeds\": %llu,\n  \"duration_s\": ", first_unit,
-            first_unit + plants - 1u, first_unit >= POP_FIRST_EVAL_UNIT ? "true" : "false", seeds);
+    fprintf(f, ",\n  \"units\": [%llu, %llu],\n  \"evaluation_set\": %s,\n  \"seeds\": %llu,\n  \"first_seed\": %llu,\n  \"duration_s\": ", first_unit,
+            first_unit + plants - 1u, first_unit >= POP_FIRST_EVAL_UNIT ? "true" : "false", seeds, first_seed);
     json_num(f, duration_s > 0.0 ? duration_s : (double)NAN);
     fprintf(f, ",\n  \"params\": ");
     if (params_path != NULL) {
