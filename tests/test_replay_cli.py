@@ -165,8 +165,15 @@ def main():
     out, _ = expect([exe("replay"), "--r-angle", "1e-6", "--qu", "1e-4", path("raw.csv")], 0)
     check(body(out) != outs["csv"], "--r-angle / --qu change the estimates")
     out, _ = expect([exe("replay"), "--setup", "3", "--wide", path("raw.csv")], 0)
-    check(body(out)[0].endswith("innov_phi_sigma_rad,i_true_A,w_true_rad_s,phi_true_rad"), "--wide columns")
+    check(body(out)[0].endswith("innov_phi_sigma_rad,R_est_ohm,R_sigma_ohm,i_true_A,w_true_rad_s,phi_true_rad"),
+          "--wide columns")
     check(body(out)[2].split(",")[10] != "", "set-up 3 uses the velocity channel")
+    # the winding-resistance estimate: the nominal plant's R (4.3 ohm, plant.h) within 3 sigma at the
+    # end, its sigma below the 0.5 ohm it starts from (the paper sine drives current: it learned)
+    last = list(csv.DictReader(body(out)))[-1]
+    r_est, r_sig = float(last["R_est_ohm"]), float(last["R_sigma_ohm"])
+    check(0.0 < r_sig < 0.5 and abs(r_est - 4.3) <= 3.0 * r_sig,
+          f"R estimate {r_est:.4f} +- {r_sig:.4f} ohm against the plant's 4.3")
 
     # --- bad input: each kind, its exit code, its location --------------------------------
     expect([exe("replay"), path("nonexistent.csv")], 1, "cannot open")

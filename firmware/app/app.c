@@ -573,6 +573,11 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     memcpy(out->z, meas.z, sizeof out->z);
     ekf_state(&app->ekf, out->x);
     ekf_sigma(&app->ekf, out->sigma);
+    {
+        tv_real_t dR;
+        ekf_resistance_error(&app->ekf, &dR, &out->r_sigma_ohm);
+        out->r_est_ohm = app->ekf.model.p.R_ohm + dR;
+    }
     out->faults = app->faults;
     ++app->n_steps;
 }
