@@ -226,10 +226,10 @@ static void test_stops_are_learned_outward_only(void)
         TV_CHECK_NEAR((double)hi2, (double)hi, 0.0);
     }
     /* off by default: the stops are the model's (or the start-up routine's); the contact band
-     * is on, for the covariance inflation, with no contact noise */
+     * is on, for the covariance inflation and the contact noise (EKF_DEFAULT_QC_NM2_S) */
     ekf_config_default(&c, EKF_SETUP_CURRENT_ANGLE);
     TV_CHECK_NEAR((double)c.stop_learn_margin_rad, 0.0, 0.0);
-    TV_CHECK_NEAR((double)c.qc_Nm2_s, 0.0, 0.0);
+    TV_CHECK(c.contact_band_rad > TV_R(0.0) && c.qc_Nm2_s > TV_R(0.0));
 }
 
 /*
