@@ -110,6 +110,62 @@ static void test_scripted_stops_are_learned(void)
     TV_CHECK(!sl_running(&sl));
 }
 
+/*
+ * The routine's fitting stage (stage 3, sl_t): with both stops' rest angles written from a
+ * Hunt-Crossley law with pow() (onsets -0.102 / 1.371 rad, k 3e4, e 1.4), it takes
+ * ceil(SL_EXP_GRID / SL_FIT_PER_STEP) = 7 periods holding the last level's voltage, and ends in
+ * SL_DONE with exactly what the one-shot sl_contact_fit_joint() gives on the same angles (the
+ * fit spread over periods so that no control step carries the whole grid).
+ */
+static void test_fit_is_spread_over_periods(void)
+{
+    sl_config_t c;
+    tvm_params_t p;
+    sl_t sl;
+    tv_real_t F[SL_LEVELS];
+    tv_real_t onset[2];
+    tv_real_t k[2];
+    tv_real_t e;
+    unsigned j;
+    unsigned periods = 0u;
+    sl_config_default(&c);
+    tvm_params_default(&p);
+    TV_CHECK_EQ_INT(sl_start(&sl, &c, &p), TV_OK);
+    for (j = 0; j < SL_LEVELS; ++j) {
+        F[j] = j + 1u < SL_LEVELS ? c.level_Nm[j] : c.hold_Nm;
+        sl.rest_rad[0][j] = (tv_real_t)(-0.102 - pow((double)F[j] / 3e4, 1.0 / 1.4));
+        sl.rest_rad[1][j] = (tv_real_t)(1.371 + pow((double)F[j] / 3e4, 1.0 / 1.4));
+    }
+    TV_CHECK_EQ_INT(sl_contact_fit_joint(F, (const tv_real_t(*)[SL_LEVELS])sl.rest_rad, SL_LEVELS, c.e_min, c.e_max,
+                                         c.k_min, c.k_max, onset, k, &e),
+                    TV_OK);
+    /* the state stop_measured() leaves when the open stop's last level is measured */
+    sl.phase = SL_OPEN;
+    sl.phi_closed_rad = sl.rest_rad[0][SL_LEVELS - 1u];
+    sl.phi_open_rad = sl.rest_rad[1][SL_LEVELS - 1u];
+    sl.u_hold_V = TV_R(1.25);
+    sl.n_phase = 1u;
+    sl.stage = 3u;
+    sl.fit_g = 0u;
+    sl.fit_sse_best = TV_R(-1.0);
+    while (sl.phase == SL_OPEN && periods < 100u) {
+        TV_CHECK_NEAR((double)sl_step(&sl, sl.phi_open_rad), periods + 1u < 7u ? 1.25 : 0.0, 0.0);
+        ++periods;
+    }
+    TV_CHECK_EQ_INT((int)periods, (int)((SL_EXP_GRID + SL_FIT_PER_STEP - 1u) / SL_FIT_PER_STEP));
+    TV_CHECK_EQ_INT(sl.phase, SL_DONE);
+    TV_CHECK_NEAR((double)sl.exponent, (double)e, 0.0);
+    TV_CHECK_NEAR((double)sl.onset_closed_rad, (double)onset[0], 0.0);
+    TV_CHECK_NEAR((double)sl.onset_open_rad, (double)onset[1], 0.0);
+    TV_CHECK_NEAR((double)sl.k_fit[0], (double)k[0], 0.0);
+    TV_CHECK_NEAR((double)sl.k_fit[1], (double)k[1], 0.0);
+    TV_CHECK_NEAR((double)sl.k_stop, sqrt((double)k[0] * (double)k[1]), 1e-12 * (double)sl.k_stop);
+    /* and the law it found is the one the angles were written from */
+    TV_CHECK_NEAR((double)e, 1.4, 0.051);
+    TV_CHECK_NEAR((double)onset[0], -0.102, 2e-4);
+    TV_CHECK_NEAR((double)onset[1], 1.371, 2e-4);
+}
+
 /* The contact-law fit against rest angles written from the law itself, a = a0 + dir (F/k)^(1/e)
  * (pow from libm, not the fit's exp/log), and its bounds. */
 static void test_contact_fit(void)
@@ -340,6 +396,7 @@ int main(void)
     TV_TEST_RUN(test_scripted_stops_are_learned);
     TV_TEST_RUN(test_contact_fit);
     TV_TEST_RUN(test_contact_fit_joint);
+    TV_TEST_RUN(test_fit_is_spread_over_periods);
     TV_TEST_RUN(test_timeout_and_implausible_results_learn_nothing);
     TV_TEST_RUN(test_nvm_record);
     TV_TEST_RUN(test_app_set_stops_is_validated);

@@ -10,7 +10,7 @@
 #include "rawlog.h"
 #include "tv_status.h"
 
-enum { STAGE_SEEK = 0, STAGE_SETTLE = 1, STAGE_MEASURE = 2 };
+enum { STAGE_SEEK = 0, STAGE_SETTLE = 1, STAGE_MEASURE = 2, STAGE_FIT = 3 };
 
 /** Weight of a new sample in the velocity low-pass (time constant 10 ms at 1 kHz). */
 #define SL_W_ALPHA TV_R(0.1)
@@ -227,6 +227,51 @@ static tv_real_t level_torque(const sl_config_t *c, unsigned j)
     return j + 1u < SL_LEVELS ? c->level_Nm[j] : c->hold_Nm;
 }
 
+/* Validation shared by the joint fit and the routine's fitting stage. */
+static int joint_inputs_ok(const tv_real_t *F_Nm, const tv_real_t a_rad[2][SL_LEVELS], unsigned n, tv_real_t e_min,
+                           tv_real_t e_max, tv_real_t k_min, tv_real_t k_max)
+{
+    return e_min >= TV_R(1.0) && e_max >= e_min && e_max <= TV_R(3.0) && fit_inputs_ok(F_Nm, a_rad[0], n) &&
+           fit_inputs_ok(F_Nm, a_rad[1], n) && k_min > TV_R(0.0) && k_max > k_min;
+}
+
+/* Exponent g of the joint fit's grid (one value, e_min, when e_max = e_min). */
+static tv_real_t grid_exponent(tv_real_t e_min, tv_real_t e_max, unsigned g)
+{
+    return e_min + (e_max - e_min) * (tv_real_t)g / (tv_real_t)(SL_EXP_GRID - 1u);
+}
+
+/* Number of exponents of the grid: SL_EXP_GRID, or 1 for a fixed exponent. */
+static unsigned grid_size(tv_real_t e_min, tv_real_t e_max)
+{
+    return e_max > e_min ? SL_EXP_GRID : 1u;
+}
+
+/* Both stops' laws for the exponent eg; their sum of squared residuals into *sse. */
+static int fit_exponent(const tv_real_t *F_Nm, const tv_real_t a_rad[2][SL_LEVELS], unsigned n, tv_real_t eg,
+                        tv_real_t k_min, tv_real_t k_max, tv_real_t a0[2], tv_real_t kk[2], tv_real_t *sse)
+{
+    /* the bounds are secant stiffnesses at SL_P_REF_RAD: k p_ref^(e-1) in [k_min, k_max] */
+    const tv_real_t to_law = TV_POWP(SL_P_REF_RAD, TV_R(1.0) - eg);
+    tv_real_t gF[SL_LEVELS];
+    unsigned s;
+    unsigned j;
+    *sse = TV_R(0.0);
+    for (j = 0; j < n; ++j) {
+        gF[j] = TV_POWP(F_Nm[j], TV_R(1.0) / eg); /* shared by both stops */
+    }
+    for (s = 0; s < 2u; ++s) {
+        tv_real_t sse_s;
+        const int rc = fit_law(gF, a_rad[s], n, s == 0u ? TV_R(-1.0) : TV_R(1.0), eg, k_min * to_law, k_max * to_law,
+                               &a0[s], &kk[s], &sse_s);
+        if (rc != TV_OK) {
+            return rc;
+        }
+        *sse += sse_s;
+    }
+    return TV_OK;
+}
+
 int sl_contact_fit_joint(const tv_real_t *F_Nm, const tv_real_t a_rad[2][SL_LEVELS], unsigned n, tv_real_t e_min,
                          tv_real_t e_max, tv_real_t k_min, tv_real_t k_max, tv_real_t onset_rad[2], tv_real_t k[2],
                          tv_real_t *e)
@@ -236,34 +281,17 @@ int sl_contact_fit_joint(const tv_real_t *F_Nm, const tv_real_t a_rad[2][SL_LEVE
     if (F_Nm == NULL || a_rad == NULL || onset_rad == NULL || k == NULL || e == NULL) {
         return TV_ERR_NULL;
     }
-    if (!(e_min >= TV_R(1.0)) || !(e_max >= e_min) || !(e_max <= TV_R(3.0))) {
+    if (!joint_inputs_ok(F_Nm, a_rad, n, e_min, e_max, k_min, k_max)) {
         return TV_ERR_CONFIG;
     }
-    if (!fit_inputs_ok(F_Nm, a_rad[0], n) || !fit_inputs_ok(F_Nm, a_rad[1], n) || !(k_min > TV_R(0.0)) ||
-        !(k_max > k_min)) {
-        return TV_ERR_CONFIG;
-    }
-    for (g = 0; g < SL_EXP_GRID; ++g) {
-        const tv_real_t eg = e_min + (e_max - e_min) * (tv_real_t)g / (tv_real_t)(SL_EXP_GRID - 1u);
-        /* the bounds are secant stiffnesses at SL_P_REF_RAD: k p_ref^(e-1) in [k_min, k_max] */
-        const tv_real_t to_law = TV_POWP(SL_P_REF_RAD, TV_R(1.0) - eg);
-        tv_real_t gF[SL_LEVELS];
+    for (g = 0; g < grid_size(e_min, e_max); ++g) {
+        const tv_real_t eg = grid_exponent(e_min, e_max, g);
         tv_real_t a0[2];
         tv_real_t kk[2];
-        tv_real_t sse = TV_R(0.0);
-        unsigned s;
-        unsigned j;
-        for (j = 0; j < n; ++j) {
-            gF[j] = TV_POWP(F_Nm[j], TV_R(1.0) / eg); /* shared by both stops */
-        }
-        for (s = 0; s < 2u; ++s) {
-            tv_real_t sse_s;
-            const int rc = fit_law(gF, a_rad[s], n, s == 0u ? TV_R(-1.0) : TV_R(1.0), eg, k_min * to_law,
-                                   k_max * to_law, &a0[s], &kk[s], &sse_s);
-            if (rc != TV_OK) {
-                return rc;
-            }
-            sse += sse_s;
+        tv_real_t sse;
+        const int rc = fit_exponent(F_Nm, a_rad, n, eg, k_min, k_max, a0, kk, &sse);
+        if (rc != TV_OK) {
+            return rc;
         }
         if (best < TV_R(0.0) || sse < best) {
             best = sse;
@@ -273,11 +301,54 @@ int sl_contact_fit_joint(const tv_real_t *F_Nm, const tv_real_t a_rad[2][SL_LEVE
             k[1] = kk[1];
             *e = eg;
         }
-        if (!(e_max > e_min)) {
-            break; /* a fixed exponent: one fit */
-        }
     }
     return TV_OK;
+}
+
+/* The routine's net torques, level by level [N m]. */
+static void level_torques(const sl_config_t *c, tv_real_t F[SL_LEVELS])
+{
+    unsigned j;
+    for (j = 0; j < SL_LEVELS; ++j) {
+        F[j] = level_torque(c, j);
+    }
+}
+
+/* The fitting stage: up to SL_FIT_PER_STEP exponents of the joint fit this period (the same
+ * grid and choice as sl_contact_fit_joint(), spread over periods); when the grid is done, the
+ * result and SL_DONE. */
+static void fit_step(sl_t *sl)
+{
+    const sl_config_t *c = &sl->cfg;
+    const unsigned n_grid = grid_size(c->e_min, c->e_max);
+    tv_real_t F[SL_LEVELS];
+    unsigned m;
+    level_torques(c, F);
+    for (m = 0; m < SL_FIT_PER_STEP && sl->fit_g < n_grid; ++m, ++sl->fit_g) {
+        const tv_real_t eg = grid_exponent(c->e_min, c->e_max, sl->fit_g);
+        tv_real_t a0[2];
+        tv_real_t kk[2];
+        tv_real_t sse;
+        if (fit_exponent(F, (const tv_real_t(*)[SL_LEVELS])sl->rest_rad, SL_LEVELS, eg, c->k_min, c->k_max, a0, kk,
+                         &sse) != TV_OK) {
+            (void)fail(sl, SL_ERR_IMPLAUSIBLE_OPEN);
+            return;
+        }
+        if (sl->fit_sse_best < TV_R(0.0) || sse < sl->fit_sse_best) {
+            sl->fit_sse_best = sse;
+            sl->fit_onset[0] = a0[0];
+            sl->fit_onset[1] = a0[1];
+            sl->k_fit[0] = kk[0];
+            sl->k_fit[1] = kk[1];
+            sl->exponent = eg;
+        }
+    }
+    if (sl->fit_g >= n_grid) {
+        sl->onset_closed_rad = sl->fit_onset[0];
+        sl->onset_open_rad = sl->fit_onset[1];
+        sl->k_stop = TV_SQRT(sl->k_fit[0] * sl->k_fit[1]);
+        sl->phase = SL_DONE;
+    }
 }
 
 /* A stop was measured at phi: record it, move on (or finish with the plausibility checks). */
@@ -308,21 +379,17 @@ static void stop_measured(sl_t *sl, tv_real_t phi)
     sl->phi_open_rad = phi;
     {
         tv_real_t F[SL_LEVELS];
-        tv_real_t onset[2] = {TV_R(0.0), TV_R(0.0)}; /* written by the fit on TV_OK */
-        unsigned j;
-        for (j = 0; j < SL_LEVELS; ++j) {
-            F[j] = level_torque(c, j);
-        }
-        if (sl_contact_fit_joint(F, (const tv_real_t(*)[SL_LEVELS])sl->rest_rad, SL_LEVELS, c->e_min, c->e_max, c->k_min,
-                                 c->k_max, onset, sl->k_fit, &sl->exponent) != TV_OK) {
+        level_torques(c, F);
+        if (!joint_inputs_ok(F, (const tv_real_t(*)[SL_LEVELS])sl->rest_rad, SL_LEVELS, c->e_min, c->e_max, c->k_min,
+                             c->k_max)) {
             (void)fail(sl, SL_ERR_IMPLAUSIBLE_OPEN);
             return;
         }
-        sl->onset_closed_rad = onset[0];
-        sl->onset_open_rad = onset[1];
     }
-    sl->k_stop = TV_SQRT(sl->k_fit[0] * sl->k_fit[1]);
-    sl->phase = SL_DONE;
+    /* the joint fit of both laws runs over the next periods (fit_step()) */
+    sl->stage = STAGE_FIT;
+    sl->fit_g = 0u;
+    sl->fit_sse_best = TV_R(-1.0);
 }
 
 tv_real_t sl_step(sl_t *sl, tv_real_t phi)
@@ -360,6 +427,11 @@ tv_real_t sl_step(sl_t *sl, tv_real_t phi)
     sl->w_f += SL_W_ALPHA * ((phi - sl->phi_prev) / p->Ts_s - sl->w_f);
     sl->phi_prev = phi;
     w = sl->w_f;
+    if (sl->stage == STAGE_FIT) {
+        /* both stops measured: the plate is held at the last level while the law is fitted */
+        fit_step(sl);
+        return sl_running(sl) ? sl->u_hold_V : TV_R(0.0);
+    }
     if (sl->stage == STAGE_SEEK) {
         tv_real_t u;
         tv_real_t e;

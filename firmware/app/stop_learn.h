@@ -54,6 +54,10 @@ extern "C" {
 
 /** Exponents the joint fit tries: e_min + j (e_max - e_min) / (SL_EXP_GRID - 1), j < SL_EXP_GRID. */
 #define SL_EXP_GRID 21u
+/** Exponents of the grid the routine fits per period once both stops are measured: the joint fit
+ *  (about 1,650 Cortex-M4F instructions per exponent, firmware_report) is spread over
+ *  ceil(SL_EXP_GRID / SL_FIT_PER_STEP) periods so that no step exceeds the control budget. */
+#define SL_FIT_PER_STEP 3u
 
 /** Penetration at which the stiffness bounds k_min, k_max are secant stiffnesses [rad]. */
 #define SL_P_REF_RAD TV_R(0.0025)
@@ -125,7 +129,7 @@ typedef struct {
     sl_phase_t phase;
     sl_error_t error;
     uint32_t n_phase;        /**< samples in this phase */
-    uint8_t stage;           /**< 0 seek, 1 settle at hold, 2 measure */
+    uint8_t stage;           /**< 0 seek, 1 settle at hold, 2 measure, 3 fit the contact law */
     tv_real_t target_rad;    /**< current position target */
     tv_real_t u_hold_V;      /**< hold voltage of this stop */
     tv_real_t integ_V;       /**< integral term [V] */
@@ -148,6 +152,11 @@ typedef struct {
     tv_real_t k_fit[2];         /**< fitted stiffness per stop [N m/rad^e] */
     tv_real_t k_stop;           /**< the model's stiffness: geometric mean of k_fit (valid in SL_DONE) */
     tv_real_t exponent;         /**< the fitted exponent, common to both stops (valid in SL_DONE) */
+    /* the joint fit in progress (stage 3): next exponent, best sum of squared residuals so far,
+     * its onsets */
+    uint8_t fit_g;
+    tv_real_t fit_sse_best;
+    tv_real_t fit_onset[2];
 } sl_t;
 
 /**

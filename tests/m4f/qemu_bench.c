@@ -14,7 +14,11 @@
  *
  * Markers: bench_app_<category>() before an application step (its category: the mode, or
  * "safe" with latched faults, or "gap" when samples were lost before it), bench_pred() /
- * bench_corr() before ekf_predict / ekf_correct, bench_end() after each. Distinct bodies keep
+ * bench_corr() before ekf_predict / ekf_correct, bench_end() after each. After the replay, two
+ * costs the stream does not reach: bench_pred_hc() before ekf_predict with a learned
+ * Hunt-Crossley contact law and the plate in contact (pressed against the open stop, and an
+ * impact into it), bench_fit() before each period of the start-up stop learning's fitting stage
+ * (sl_step() in stage 3: SL_FIT_PER_STEP exponents of the joint contact-law fit per period). Distinct bodies keep
  * the compiler from merging them (identical-code folding would give them one address).
  */
 #include <stddef.h>
@@ -24,7 +28,9 @@
 #include "app.h"
 #include "ekf.h"
 #include "semihost.h"
+#include "stop_learn.h"
 #include "startup.h"
+#include "tv_status.h"
 #include "tvlog.h"
 #include "tvlog_gen.h"
 
@@ -51,6 +57,8 @@ MARKER(bench_app_safe, 0x15u)
 MARKER(bench_app_gap, 0x16u)
 MARKER(bench_pred, 0x20u)
 MARKER(bench_corr, 0x21u)
+MARKER(bench_pred_hc, 0x22u)
+MARKER(bench_fit, 0x23u)
 MARKER(bench_end, 0x30u)
 
 void startup_fault_hook(uint32_t exception_number)
@@ -110,6 +118,61 @@ static int gen(const char *path, uint32_t steps)
     sh_put_u32(written);
     sh_puts(" records\n");
     return 0;
+}
+
+/* The contact costs the replayed stream (the model's Kelvin-Voigt stops) does not reach. */
+static void bench_contact(void)
+{
+    static ekf_t tmpl;
+    static ekf_t e;
+    /* rest angles of a learned law at the routine's four net torques (values of a training unit) */
+    static const tv_real_t a[2][SL_LEVELS] = {{TV_R(-0.1046), TV_R(-0.1037), TV_R(-0.1030), TV_R(-0.1019)},
+                                              {TV_R(1.3707), TV_R(1.3698), TV_R(1.3691), TV_R(1.3680)}};
+    static sl_t sl;
+    tvm_params_t p;
+    ekf_config_t c;
+    sl_config_t slc;
+    int n;
+    tvm_params_default(&p);
+    p.stop_exponent = TV_R(1.25);
+    p.k_stop_Nm_rad = TV_R(2.0e4);
+    p.d_stop_Nm_s_rad = TV_R(0.16) * p.k_stop_Nm_rad;
+    ekf_config_default(&c, EKF_SETUP_CURRENT_ANGLE);
+    if (ekf_init(&tmpl, &p, &c) != TV_OK) {
+        fail("bench_contact: ekf_init failed");
+    }
+    for (n = 0; n < 100; ++n) {
+        e = tmpl;
+        /* even: pressed 1 mrad into the open stop under 10 V; odd: 2 mrad short of it at 10 rad/s */
+        e.x[TVM_I] = TV_R(2.0);
+        e.x[TVM_W] = (n & 1) != 0 ? TV_R(10.0) : TV_R(0.0);
+        e.x[TVM_PHI] = p.phi_open_rad + ((n & 1) != 0 ? TV_R(-0.002) : TV_R(0.001));
+        bench_pred_hc();
+        (void)ekf_predict(&e, TV_R(10.0));
+        bench_end();
+    }
+    /* the routine as stop_measured() leaves it when the open stop's last level is measured */
+    sl_config_default(&slc);
+    tvm_params_default(&p);
+    if (sl_start(&sl, &slc, &p) != TV_OK) {
+        fail("bench_contact: sl_start failed");
+    }
+    memcpy(sl.rest_rad, a, sizeof sl.rest_rad);
+    sl.phase = SL_OPEN;
+    sl.phi_closed_rad = a[0][SL_LEVELS - 1u];
+    sl.phi_open_rad = a[1][SL_LEVELS - 1u];
+    sl.n_phase = 1u;
+    sl.stage = 3u;
+    sl.fit_g = 0u;
+    sl.fit_sse_best = TV_R(-1.0);
+    for (n = 0; n < 100 && sl.phase == SL_OPEN; ++n) {
+        bench_fit();
+        (void)sl_step(&sl, sl.phi_open_rad);
+        bench_end();
+    }
+    if (sl.phase != SL_DONE) {
+        fail("bench_contact: the fitting stage did not end in SL_DONE");
+    }
 }
 
 static int run(const char *path)
@@ -173,6 +236,7 @@ static int run(const char *path)
             bench_end();
         }
     }
+    bench_contact();
     sh_puts("qemu_bench: ");
     sh_put_u32(n);
     sh_puts(" steps replayed; stack high-water ");

@@ -11,7 +11,7 @@ is deterministic: it does not depend on the host, its load or QEMU's speed.
 
 Markers (tests/m4f/qemu_bench.c): a block in bench_app_<category>, bench_pred or bench_corr
 opens a measurement, a block in bench_end closes it. Instructions in the markers themselves and
-in the driver (--exclude, default main,run) are not counted: what remains is the measured
+in the driver (--exclude, default main,run,bench_contact) are not counted: what remains is the measured
 function and everything it calls (library included).
 """
 import argparse
@@ -29,7 +29,7 @@ def fmt(n):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--budget", type=int, default=16800, help="cycles per step (default 16800)")
-    ap.add_argument("--exclude", default="main,run", help="driver functions not counted")
+    ap.add_argument("--exclude", default="main,run,bench_contact", help="driver functions not counted")
     a = ap.parse_args()
     exclude = set(a.exclude.split(","))
 
@@ -92,7 +92,7 @@ def main():
     print("  %-44s %6s %9s %9s %9s %11s" % ("instructions per call", "calls", "mean", "min", "max", "max/budget"))
     app_all = []
     order = ["sine", "steps", "chirp", "position", "off", "safe", "gap"]
-    for cat in order + sorted(set(results) - set(order) - {"pred", "corr"}):
+    for cat in order + sorted(set(results) - set(order) - {"pred", "corr", "pred_hc", "fit"}):
         v = results.get(cat)
         if not v:
             continue
@@ -108,7 +108,9 @@ def main():
         print("  %-44s %6d %9s %9s %9s %9.1f %%" % ("APPLICATION STEP (all except after gaps)", len(app_all),
                                                    fmt(sum(app_all) / len(app_all)), fmt(min(app_all)),
                                                    fmt(max(app_all)), 100.0 * max(app_all) / budget))
-    for cat, label in (("pred", "ekf_predict (map + Jacobian, 10 sub-steps)"), ("corr", "ekf_correct (current + angle)")):
+    for cat, label in (("pred", "ekf_predict (map + Jacobian, 10 sub-steps)"), ("corr", "ekf_correct (current + angle)"),
+                       ("pred_hc", "ekf_predict in contact, Hunt-Crossley law"),
+                       ("fit", "stop learning's contact-law fit, per period")):
         v = results.get(cat)
         if v:
             print("  %-44s %6d %9s %9s %9s %9.1f %%" % (label, len(v), fmt(sum(v) / len(v)), fmt(min(v)), fmt(max(v)),
