@@ -52,6 +52,17 @@ static int same_estimate(const ekf_t *a, const ekf_t *b)
 }
 
 #if TV_REAL_IS_DOUBLE
+/* One correction with the current and the angle of the truth xt plus the sensors' noise (0.01 A,
+ * 1.6e-4 rad), checked accepted. */
+static void correct_noisy(ekf_t *f, const double xt[3])
+{
+    ekf_meas_t m;
+    m.z[EKF_CH_CURRENT] = xt[0] + 0.01 * gauss();
+    m.z[EKF_CH_VELOCITY] = 0.0;
+    m.z[EKF_CH_ANGLE] = xt[2] + 1.6e-4 * gauss();
+    TV_CHECK_EQ_INT(ekf_correct(f, &m, NULL), TV_OK);
+}
+
 /*
  * The augmented states (contact torque d, resistance error dR): (1) one predict, one current and
  * one angle update of the augmented filter against the same steps written out on the full 5x5
@@ -244,14 +255,10 @@ static void test_contact_torque_state(void)
         cfg.x0[2] = 0.3;
         TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
         for (k = 0; k < 4000; ++k) {
-            ekf_meas_t m;
             const double u = 6.0 * sin(2.0 * PI_D * 2.0 * (double)k * 1e-3) + 2.0;
             tvm_step_dist(&f.model, xt, 0.3, u, xt, NULL, NULL);
             TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
-            m.z[EKF_CH_CURRENT] = xt[0] + 0.01 * gauss();
-            m.z[EKF_CH_VELOCITY] = 0.0;
-            m.z[EKF_CH_ANGLE] = xt[2] + 1.6e-4 * gauss();
-            TV_CHECK_EQ_INT(ekf_correct(&f, &m, NULL), TV_OK);
+            correct_noisy(&f, xt);
             if (k >= 3000) {
                 werr += (f.x[1] - xt[1]) * (f.x[1] - xt[1]);
             }
@@ -296,14 +303,10 @@ static void test_resistance_error_state(void)
     cfg.qr_ohm2_s = 1e-3;
     TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
     for (k = 0; k < 5000; ++k) {
-        ekf_meas_t m;
         const double u = 4.0 * sin(2.0 * PI_D * 1.0 * (double)k * 1e-3) + 1.0;
         tvm_step(&truth, xt, u, xt, NULL);
         TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
-        m.z[EKF_CH_CURRENT] = xt[0] + 0.01 * gauss();
-        m.z[EKF_CH_VELOCITY] = 0.0;
-        m.z[EKF_CH_ANGLE] = xt[2] + 1.6e-4 * gauss();
-        TV_CHECK_EQ_INT(ekf_correct(&f, &m, NULL), TV_OK);
+        correct_noisy(&f, xt);
         if (k >= 4000) {
             werr += (f.x[1] - xt[1]) * (f.x[1] - xt[1]);
         }
@@ -320,13 +323,9 @@ static void test_resistance_error_state(void)
         if (k == 1000) {
             ekf_resistance_error(&f, &dr, &sr);
         }
-        ekf_meas_t m;
         tvm_step(&truth, xt, 0.0, xt, NULL);
         TV_CHECK_EQ_INT(ekf_predict(&f, 0.0), TV_OK);
-        m.z[EKF_CH_CURRENT] = xt[0] + 0.01 * gauss();
-        m.z[EKF_CH_VELOCITY] = 0.0;
-        m.z[EKF_CH_ANGLE] = xt[2] + 1.6e-4 * gauss();
-        TV_CHECK_EQ_INT(ekf_correct(&f, &m, NULL), TV_OK);
+        correct_noisy(&f, xt);
     }
     ekf_resistance_error(&f, &dr1, &sr1);
     printf("  20 s without current: estimate %.4f -> %.4f, sigma %.4f -> %.4f ohm (random walk alone: %.4f)\n", dr, dr1, sr, sr1,
@@ -341,14 +340,10 @@ static void test_resistance_error_state(void)
     TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
     xt[0] = xt[1] = xt[2] = 0.0;
     for (k = 0; k < 3000; ++k) {
-        ekf_meas_t m;
         const double u = 6.0 * sin(2.0 * PI_D * 1.0 * (double)k * 1e-3);
         tvm_step(&truth, xt, u, xt, NULL);
         TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
-        m.z[EKF_CH_CURRENT] = xt[0] + 0.01 * gauss();
-        m.z[EKF_CH_VELOCITY] = 0.0;
-        m.z[EKF_CH_ANGLE] = xt[2] + 1.6e-4 * gauss();
-        TV_CHECK_EQ_INT(ekf_correct(&f, &m, NULL), TV_OK);
+        correct_noisy(&f, xt);
         TV_CHECK(f.aug[TVM_A_DR] <= 1.0 && f.aug[TVM_A_DR] >= -1.0);
     }
     TV_CHECK(f.aug[TVM_A_DR] >= 0.99);
