@@ -693,7 +693,12 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     dr_frozen = TV_FABS(x[TVM_I]) < ekf->cfg.dr_excite_A;
     for (ch = 0; ch < EKF_NCH; ++ch) {
         if (use[ch]) {
-            if (ch == EKF_CH_ANGLE && ekf->in_contact && ekf->cfg.contact_nis_gate > TV_R(0.0) &&
+            /* the model's set-valued parts: a stop's contact, or a plate it predicts stuck (w
+             * exactly 0) whose angle moved by less than the band (creep past a wrong stiction;
+             * a larger jump is no creep, and inflating for it would turn it into a velocity) */
+            const int stuck = ekf->x[TVM_W] == TV_R(0.0) &&
+                              TV_FABS(meas->z[ch] - x[TVM_PHI]) <= ekf->cfg.contact_band_rad;
+            if (ch == EKF_CH_ANGLE && (ekf->in_contact || stuck) && ekf->cfg.contact_nis_gate > TV_R(0.0) &&
                 inflate_at_contact(x[TVM_PHI], P, meas->z[ch], ekf->cfg.r[ch], ekf->cfg.contact_nis_gate, ekf->model.p.Ts_s)) {
                 ++n_inflate;
             }

@@ -143,7 +143,9 @@ typedef struct {
     tv_real_t dr_excite_A;
     /**
      * Contact covariance inflation (README "Stop contact"): when the predicted angle is in the
-     * contact band and the angle innovation's NIS exceeds this gate, the mechanical rows and
+     * contact band, or the model predicts the plate stuck (w exactly 0: the other set-valued part
+     * of the model, where a wrong stiction lets the real plate creep) and the angle moved by no
+     * more than contact_band_rad, and the angle innovation's NIS exceeds this gate, the mechanical rows and
      * columns of the covariance (w, phi and the contact torque) are scaled by the factor that
      * brings that NIS down to the gate, before the update: the model's contact was wrong by more
      * than its sigma said, so the filter follows the measured angle instead and its sigma says
