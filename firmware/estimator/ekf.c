@@ -302,6 +302,11 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     return TV_OK;
 }
 
+/* aug_sane(), bound_aug() and propagate() are written out for two augmented states (the other
+ * one is 1 - q); a third must extend them (the damping and motor-constant experiments of the
+ * README did): the build fails here first. */
+typedef char ekf_two_augmented_states[(TVM_NA == 2) ? 1 : -1];
+
 /* The augmented part of an estimate: a and the (co)variances holding it. */
 typedef struct {
     tv_real_t a[TVM_NA];
