@@ -202,6 +202,9 @@ typedef struct {
     double nees_window_max;          /**< largest average NEES over SIM_NEES_WINDOW consecutive scored ticks (NaN: too short) */
     uint32_t consistency_episodes;   /**< times the application's consistency monitor raised a flag (nis_monitor.h) */
     uint32_t consistency_flag_ticks; /**< ticks with a consistency flag raised */
+    double r_est_ohm;                /**< the filter's winding resistance R + dR at the end [ohm] */
+    double r_sigma_ohm;              /**< its standard deviation [ohm] (0: no resistance-error state) */
+    double r_true_ohm;               /**< the plant's winding resistance [ohm] */
     int stop_learn_phase;            /**< sl_phase_t at the end (SL_IDLE: the routine did not run) */
     int stop_learn_error;            /**< sl_error_t at the end */
     double stop_learn_closed_rad;    /**< learned closed stop [rad] (NaN unless SL_DONE) */

@@ -121,6 +121,8 @@ int sim_result_print(FILE *f, const sim_result_t *r)
                                    : "");
     fprintf(f, "  NIS per channel (1 dof each, expected 1): current %.3g, velocity %.3g, angle %.3g\n",
             r->nis_ch_avg[EKF_CH_CURRENT], r->nis_ch_avg[EKF_CH_VELOCITY], r->nis_ch_avg[EKF_CH_ANGLE]);
+    fprintf(f, "winding resistance at the end: estimate %.4g +- %.3g ohm (R + dR, ekf_resistance_error()), plant %.4g ohm\n",
+            r->r_est_ohm, r->r_sigma_ohm, r->r_true_ohm);
     if (r->stop_learn_phase != (int)SL_IDLE) {
         fprintf(f, "stop learning (APP_MODE_STOP_LEARN): %s%s%s after %.3f s; closed %.5f rad, open %.5f rad; "
                    "largest speed near a stop %.3g rad/s\n",
@@ -198,7 +200,13 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     sim_jnum(f, r->nis_ch_avg[EKF_CH_VELOCITY]);
     fputs(", \"angle\": ", f);
     sim_jnum(f, r->nis_ch_avg[EKF_CH_ANGLE]);
-    fputs("}},\n", f);
+    fputs("}},\n  \"winding_resistance\": {\"estimate_ohm\": ", f);
+    sim_jnum(f, r->r_est_ohm);
+    fputs(", \"sigma_ohm\": ", f);
+    sim_jnum(f, r->r_sigma_ohm);
+    fputs(", \"plant_ohm\": ", f);
+    sim_jnum(f, r->r_true_ohm);
+    fputs("},\n", f);
     if (r->tracking.n > 0u) {
         fprintf(f, "  \"tracking\": {\"steps\": %lu, \"worst_overshoot_pct\": ", (unsigned long)r->tracking.n_steps);
         sim_jnum(f, r->tracking.worst_overshoot_pct);

@@ -475,6 +475,14 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->nis_hi = sim_chi2_quantile(SIM_BAND_P_HI, side->nis_dof_sum) / n;
     }
     res->faults = app->faults;
+    {
+        tv_real_t dR;
+        tv_real_t sR;
+        ekf_resistance_error(&app->ekf, &dR, &sR);
+        res->r_est_ohm = (double)(app->ekf.model.p.R_ohm + dR);
+        res->r_sigma_ohm = (double)sR;
+        res->r_true_ohm = pcfg.R_ohm;
+    }
     res->stop_learn_phase = (int)app->sl.phase;
     res->stop_learn_error = (int)app->sl.error;
     if (app->sl.phase == SL_DONE) {
