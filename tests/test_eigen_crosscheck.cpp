@@ -635,13 +635,15 @@ void test_filter_current_angle_matches_reference()
     ekf_config_t cc;
     ekf_config_default(&cc, EKF_SETUP_CURRENT_ANGLE);
     /* the reference is the plain 3-state EKF: the contact covariance inflation, the contact noise
-     * and the winding-resistance error state (all on by default, which the reference does not
+     * the winding-resistance and friction error states (all on by default, which the reference does not
      * have) are off here; test_ekf and test_population check them against their own formulas */
     TV_CHECK(cc.contact_nis_gate > TV_R(0.0) && cc.contact_band_rad > TV_R(0.0));
     TV_CHECK(cc.qr_ohm2_s > TV_R(0.0) && cc.qc_Nm2_s > TV_R(0.0));
     cc.contact_nis_gate = TV_R(0.0);
     cc.qc_Nm2_s = TV_R(0.0);
     cc.qr_ohm2_s = TV_R(0.0);
+    TV_CHECK(cc.qf_1_s > TV_R(0.0));
+    cc.qf_1_s = TV_R(0.0);
     run_filter_case("current+angle", cc, tvref::config_default(p, tvref::Setup::CurrentAngle));
 }
 

@@ -64,16 +64,16 @@ static void correct_noisy(ekf_t *f, const double xt[3])
 }
 
 /*
- * The augmented states (contact torque d, resistance error dR): (1) one predict, one current and
- * one angle update of the augmented filter against the same steps written out on the full 5x5
- * matrices (F5 = [[F, G], [0, B]], P5 = F5 P5 F5^T + Q5; K = P5 H^T / s, P5 = (I - K H) P5
+ * The augmented states (contact torque d, resistance error dR, friction error f): (1) one
+ * predict, one current and one angle update of the augmented filter against the same steps
+ * written out on the full 6x6 matrices (F5 = [[F, G], [0, B]], P5 = F5 P5 F5^T + Q5; K = P5 H^T / s, P5 = (I - K H) P5
  * (I - K H)^T + r K K^T) from a random SPD P5; (2) on a truth that has a constant extra torque of
  * 0.3 N m, the filter's d converges to it
  * within 3 sigma and the velocity error stays small.
  */
 static void test_contact_torque_state(void)
 {
-    enum { N = 5 }; /* x (3) + d + dR */
+    enum { N = 6 }; /* x (3) + d + dR + f */
     tvm_params_t p;
     ekf_config_t cfg;
     ekf_t f;
@@ -89,10 +89,12 @@ static void test_contact_torque_state(void)
     cfg.qd_free_Nm2_s = 0.5;
     cfg.d_tau_s = 0.02;
     cfg.qr_ohm2_s = 0.3;
+    cfg.qf_1_s = 0.2;
     TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
     TV_CHECK_EQ_INT(f.aug_on, 1);
     TV_CHECK_NEAR(f.Paa[TVM_A_DR][TVM_A_DR], cfg.r_sigma0_ohm * cfg.r_sigma0_ohm, 1e-15);
-    /* a random SPD 5x5: A A^T + 0.1 I */
+    TV_CHECK_NEAR(f.Paa[TVM_A_FRIC][TVM_A_FRIC], cfg.f_sigma0 * cfg.f_sigma0, 1e-15);
+    /* a random SPD 6x6: A A^T + 0.1 I */
     for (a = 0; a < N; ++a) {
         for (b = 0; b < N; ++b) {
             A[a][b] = urand() - 0.5;
@@ -112,16 +114,19 @@ static void test_contact_torque_state(void)
         }
         f.Pxa[a][TVM_A_TORQUE] = P5[a][3];
         f.Pxa[a][TVM_A_DR] = P5[a][4];
+        f.Pxa[a][TVM_A_FRIC] = P5[a][5];
     }
-    f.Paa[0][0] = P5[3][3];
-    f.Paa[0][1] = P5[3][4];
-    f.Paa[1][0] = P5[4][3];
-    f.Paa[1][1] = P5[4][4];
+    for (a = 0; a < TVM_NA; ++a) {
+        for (b = 0; b < TVM_NA; ++b) {
+            f.Paa[a][b] = P5[3 + a][3 + b];
+        }
+    }
     f.x[0] = 0.5;
     f.x[1] = 3.0;
     f.x[2] = 0.4;
     f.aug[TVM_A_TORQUE] = 0.2;
     f.aug[TVM_A_DR] = -0.4;
+    f.aug[TVM_A_FRIC] = 0.1;
     {
         double F[3][3];
         double G[3][TVM_NA];
@@ -136,9 +141,11 @@ static void test_contact_torque_state(void)
             }
             F5[a][3] = G[a][TVM_A_TORQUE];
             F5[a][4] = G[a][TVM_A_DR];
+            F5[a][5] = G[a][TVM_A_FRIC];
         }
         F5[3][3] = beta;
         F5[4][4] = 1.0;
+        F5[5][5] = 1.0;
         for (a = 0; a < N; ++a) {
             for (b = 0; b < N; ++b) {
                 T5[a][b] = 0.0;
@@ -157,6 +164,7 @@ static void test_contact_torque_state(void)
         }
         Pn[3][3] += 0.5 * 1e-3;
         Pn[4][4] += 0.3 * 1e-3;
+        Pn[5][5] += 0.2 * 1e-3;
         TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
         for (a = 0; a < 3; ++a) {
             TV_CHECK_NEAR(f.x[a], xn[a], 1e-12 * (1.0 + fabs(xn[a])));
@@ -165,16 +173,18 @@ static void test_contact_torque_state(void)
             }
             TV_CHECK_NEAR(f.Pxa[a][TVM_A_TORQUE], Pn[a][3], 1e-9 * (1.0 + fabs(Pn[a][3])));
             TV_CHECK_NEAR(f.Pxa[a][TVM_A_DR], Pn[a][4], 1e-9 * (1.0 + fabs(Pn[a][4])));
+            TV_CHECK_NEAR(f.Pxa[a][TVM_A_FRIC], Pn[a][5], 1e-9 * (1.0 + fabs(Pn[a][5])));
         }
-        for (a = 0; a < 2; ++a) {
-            for (b = 0; b < 2; ++b) {
+        for (a = 0; a < TVM_NA; ++a) {
+            for (b = 0; b < TVM_NA; ++b) {
                 TV_CHECK_NEAR(f.Paa[a][b], Pn[3 + a][3 + b], 1e-12);
             }
         }
         TV_CHECK_NEAR(f.aug[TVM_A_TORQUE], 0.2 * beta, 1e-15);
         TV_CHECK_NEAR(f.aug[TVM_A_DR], -0.4, 1e-15);
+        TV_CHECK_NEAR(f.aug[TVM_A_FRIC], 0.1, 1e-15);
         /* one current update (z = i + 0.02) and one angle update (z = phi + 0.01), each against
-         * the Joseph form on the full 5x5 written out */
+         * the Joseph form on the full 6x6 written out */
         {
             static const int chans[2] = {EKF_CH_CURRENT, EKF_CH_ANGLE};
             static const double ys[2] = {0.02, 0.01};
@@ -185,6 +195,7 @@ static void test_contact_torque_state(void)
             x5[2] = f.x[2];
             x5[3] = f.aug[TVM_A_TORQUE];
             x5[4] = f.aug[TVM_A_DR];
+            x5[5] = f.aug[TVM_A_FRIC];
             for (n = 0; n < 2; ++n) {
                 ekf_meas_t m;
                 const int j = chans[n] == EKF_CH_CURRENT ? 0 : 2;
@@ -230,14 +241,16 @@ static void test_contact_torque_state(void)
                     }
                     TV_CHECK_NEAR(f.Pxa[a][TVM_A_TORQUE], Pu[a][3], 1e-9 * (1.0 + fabs(Pu[a][3])));
                     TV_CHECK_NEAR(f.Pxa[a][TVM_A_DR], Pu[a][4], 1e-9 * (1.0 + fabs(Pu[a][4])));
+                    TV_CHECK_NEAR(f.Pxa[a][TVM_A_FRIC], Pu[a][5], 1e-9 * (1.0 + fabs(Pu[a][5])));
                 }
-                for (a = 0; a < 2; ++a) {
-                    for (b = 0; b < 2; ++b) {
+                for (a = 0; a < TVM_NA; ++a) {
+                    for (b = 0; b < TVM_NA; ++b) {
                         TV_CHECK_NEAR(f.Paa[a][b], Pu[3 + a][3 + b], 1e-9 * (1.0 + fabs(Pu[3 + a][3 + b])));
                     }
                 }
                 TV_CHECK_NEAR(f.aug[TVM_A_TORQUE], x5[3], 1e-9);
                 TV_CHECK_NEAR(f.aug[TVM_A_DR], x5[4], 1e-9);
+                TV_CHECK_NEAR(f.aug[TVM_A_FRIC], x5[5], 1e-9);
                 memcpy(Pn, Pu, sizeof Pn);
             }
         }
@@ -350,6 +363,96 @@ static void test_resistance_error_state(void)
     /* a bound so large that the explicit step could lose stability is refused */
     cfg.dr_abs_max_ohm = 1e3;
     TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
+}
+/*
+ * The relative friction error f (ekf_config_t::qf_1_s): (1) on a truth whose Coulomb and static
+ * friction are both 1.5 x the model's (the truth is the model with those parameters), f
+ * converges to 0.5 within 3 sigma and the velocity error stays small; (2) with the plate held
+ * stuck (bridge off, the plate at rest inside the stiction band) for 20 s, the estimate does not
+ * move and its sigma grows only by the random walk; (3) a truth 3 x the model's friction with a
+ * bound of 0.8: the estimate stays at the bound; (4) a bound of 1 or more (friction could turn
+ * negative) and a negative density are refused.
+ */
+static void test_friction_error_state(void)
+{
+    tvm_params_t p;
+    tvm_params_t pt;
+    tvm_t truth;
+    ekf_config_t cfg;
+    ekf_t f;
+    double xt[3] = {0.0, 0.0, 0.0};
+    double werr = 0.0;
+    double fe = 0.0;
+    double sf = 0.0;
+    double fe1;
+    double sf1;
+    long k;
+    tvm_params_default(&p);
+    pt = p;
+    pt.Mc_Nm = 1.5 * p.Mc_Nm;
+    pt.Ms_Nm = 1.5 * p.Ms_Nm;
+    TV_CHECK_EQ_INT(tvm_init(&truth, &pt), TV_OK);
+    ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
+    cfg.qf_1_s = 1e-3;
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    for (k = 0; k < 5000; ++k) {
+        const double u = 5.0 * sin(2.0 * PI_D * 1.0 * (double)k * 1e-3) + 1.0;
+        tvm_step(&truth, xt, u, xt, NULL);
+        TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
+        correct_noisy(&f, xt);
+        if (k >= 4000) {
+            werr += (f.x[1] - xt[1]) * (f.x[1] - xt[1]);
+        }
+    }
+    ekf_friction_error(&f, &fe, &sf);
+    printf("  friction error: true 0.5, estimate %.4f +- %.4f, velocity RMSE over the last second %.4f rad/s\n", fe, sf,
+           sqrt(werr / 1000.0));
+    TV_CHECK(sf > 0.0 && sf < 0.1);
+    TV_CHECK_NEAR(fe, 0.5, 3.0 * sf);
+    TV_CHECK_NEAR(fe, 0.5, 0.075); /* the issue's +-15 % of the friction level */
+    TV_CHECK_LE(sqrt(werr / 1000.0), 0.1);
+    /* (2) bridge at 0 V: the plate returns toward limp-home and sticks there; 20 s at rest */
+    for (k = 0; k < 21000; ++k) {
+        if (k == 1000) {
+            TV_CHECK(xt[1] == 0.0); /* the truth sticks */
+            ekf_friction_error(&f, &fe, &sf);
+        }
+        tvm_step(&truth, xt, 0.0, xt, NULL);
+        TV_CHECK_EQ_INT(ekf_predict(&f, 0.0), TV_OK);
+        correct_noisy(&f, xt);
+    }
+    ekf_friction_error(&f, &fe1, &sf1);
+    printf("  20 s at rest: estimate %.4f -> %.4f, sigma %.4f -> %.4f (random walk alone: %.4f)\n", fe, fe1, sf, sf1,
+           sqrt(sf * sf + 1e-3 * 20.0));
+    TV_CHECK_NEAR(fe1, fe, 0.005);
+    TV_CHECK(sf1 > sf);
+    TV_CHECK_LE(sf1, 1.01 * sqrt(sf * sf + 1e-3 * 20.0));
+    /* (3) a truth at 3 x the model's friction, bound 0.8 */
+    pt.Mc_Nm = 3.0 * p.Mc_Nm;
+    pt.Ms_Nm = 3.0 * p.Ms_Nm;
+    TV_CHECK_EQ_INT(tvm_init(&truth, &pt), TV_OK);
+    cfg.f_abs_max = 0.8;
+    cfg.qf_1_s = 1e-2;
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    xt[0] = xt[1] = xt[2] = 0.0;
+    for (k = 0; k < 4000; ++k) {
+        const double u = 8.0 * sin(2.0 * PI_D * 1.0 * (double)k * 1e-3);
+        tvm_step(&truth, xt, u, xt, NULL);
+        TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
+        correct_noisy(&f, xt);
+        TV_CHECK(f.aug[TVM_A_FRIC] <= 0.8 && f.aug[TVM_A_FRIC] >= -0.8);
+    }
+    TV_CHECK(f.aug[TVM_A_FRIC] >= 0.79);
+    /* (4) configuration */
+    cfg.f_abs_max = 1.0;
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
+    cfg.f_abs_max = 0.8;
+    cfg.qf_1_s = -1e-3;
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
+    cfg.qf_1_s = 0.0; /* no such state: f stays 0 with sigma 0 */
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    ekf_friction_error(&f, &fe, &sf);
+    TV_CHECK(fe == 0.0 && sf == 0.0);
 }
 #endif
 
@@ -980,6 +1083,7 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_locally_observable_in_both_setups);
     TV_TEST_RUN(test_contact_torque_state);
     TV_TEST_RUN(test_resistance_error_state);
+    TV_TEST_RUN(test_friction_error_state);
 #endif
     TV_TEST_RUN(test_contact_inflation);
     TV_TEST_RUN(test_converges_from_a_wrong_initial_state);

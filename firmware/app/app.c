@@ -578,6 +578,11 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         ekf_resistance_error(&app->ekf, &dR, &out->r_sigma_ohm);
         out->r_est_ohm = app->ekf.model.p.R_ohm + dR;
     }
+    {
+        tv_real_t f;
+        ekf_friction_error(&app->ekf, &f, &out->friction_rel_sigma);
+        out->friction_rel = TV_R(1.0) + f;
+    }
     out->faults = app->faults;
     ++app->n_steps;
 }

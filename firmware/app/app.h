@@ -154,6 +154,8 @@ typedef struct {
     tv_real_t sigma[TVM_NX]; /**< its standard deviations */
     tv_real_t r_est_ohm;   /**< the filter's winding resistance R + dR (ekf_resistance_error()) [ohm] */
     tv_real_t r_sigma_ohm; /**< its standard deviation [ohm]; 0 when the filter has no resistance-error state */
+    tv_real_t friction_rel;       /**< the filter's friction level relative to its model's, 1 + f (ekf_friction_error()) [-] */
+    tv_real_t friction_rel_sigma; /**< its standard deviation [-]; 0 when the filter has no friction-error state */
     ekf_innov_t innov;     /**< innovations, their variances, NIS */
     int ekf_status;        /**< status of this step's correction (0 ok) */
     uint32_t faults;       /**< latched APP_FAULT_* mask */

@@ -209,11 +209,13 @@ int main(void)
 #endif
 
     app_config_default(&cfg);
-    /* Bound the control interrupt's worst case: at most 3 missed periods are predicted across
-     * in one step (4 predictions, ~16,100 QEMU-counted instructions with the resistance-error state, of
-     * the 16,800-cycle budget: firmware_report, "after lost samples"); a longer
-     * gap latches APP_FAULT_TIMING. */
-    cfg.limits.max_gap_periods = 4u;
+    /* Bound the control interrupt's worst case: at most 1 missed period is predicted across in
+     * one step (2 predictions; firmware_report, "after lost samples": about 10,700 QEMU-counted
+     * instructions with the resistance and friction error states, and at most 2 x 5,700 + 2,100
+     * with both predictions in contact under a learned Hunt-Crossley law, of the 16,800-cycle
+     * budget; 4 predictions, the former limit, took 18,500); a longer gap latches
+     * APP_FAULT_TIMING (and still predicts only 2 periods). */
+    cfg.limits.max_gap_periods = 2u;
     can_proto_config_default(&pcfg);
     if (app_init(&s_app, &cfg) != TV_OK || can_proto_node_init(&s_node, &pcfg, &s_app) != TV_OK) {
         halt_safe();

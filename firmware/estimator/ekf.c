@@ -160,6 +160,10 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->r_sigma0_ohm = EKF_DEFAULT_R_SIGMA0_OHM;
     cfg->dr_abs_max_ohm = EKF_DEFAULT_DR_ABS_MAX_OHM;
     cfg->dr_excite_A = EKF_DEFAULT_DR_EXCITE_A;
+    cfg->qf_1_s = EKF_DEFAULT_QF_1_S;
+    cfg->f_sigma0 = EKF_DEFAULT_F_SIGMA0;
+    cfg->f_abs_max = EKF_DEFAULT_F_ABS_MAX;
+    cfg->f_excite_rad_s = EKF_DEFAULT_F_EXCITE_RAD_S;
     cfg->contact_nis_gate = EKF_DEFAULT_CONTACT_NIS_GATE;
 }
 
@@ -187,6 +191,7 @@ void ekf_config_paper(ekf_config_t *cfg)
     cfg->qd_contact_Nm2_s = TV_R(0.0);
     cfg->qd_free_Nm2_s = TV_R(0.0);
     cfg->qr_ohm2_s = TV_R(0.0);
+    cfg->qf_1_s = TV_R(0.0);
     cfg->contact_nis_gate = TV_R(0.0);
 }
 
@@ -239,7 +244,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->qd_free_Nm2_s) || !TV_IS_FINITE(cfg->d_tau_s) || !TV_IS_FINITE(cfg->d_var_ceil) ||
         !TV_IS_FINITE(cfg->contact_nis_gate) || !TV_IS_FINITE(cfg->qr_ohm2_s) ||
         !TV_IS_FINITE(cfg->r_sigma0_ohm) || !TV_IS_FINITE(cfg->dr_abs_max_ohm) ||
-        !TV_IS_FINITE(cfg->dr_excite_A)) {
+        !TV_IS_FINITE(cfg->dr_excite_A) || !TV_IS_FINITE(cfg->qf_1_s) || !TV_IS_FINITE(cfg->f_sigma0) ||
+        !TV_IS_FINITE(cfg->f_abs_max) || !TV_IS_FINITE(cfg->f_excite_rad_s)) {
         return TV_ERR_NONFINITE;
     }
     if (cfg->setup != EKF_SETUP_CURRENT_ANGLE && cfg->setup != EKF_SETUP_PAPER_3MEAS) {
@@ -262,7 +268,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         cfg->qd_contact_Nm2_s < TV_R(0.0) || cfg->qd_free_Nm2_s < TV_R(0.0) || !(cfg->d_tau_s > TV_R(0.0)) ||
         !(cfg->d_var_ceil > TV_R(0.0)) || cfg->contact_nis_gate < TV_R(0.0) || cfg->qr_ohm2_s < TV_R(0.0) ||
         cfg->r_sigma0_ohm < TV_R(0.0) || !(cfg->dr_abs_max_ohm > TV_R(0.0)) ||
-        cfg->dr_excite_A < TV_R(0.0)) {
+        cfg->dr_excite_A < TV_R(0.0) || cfg->qf_1_s < TV_R(0.0) || cfg->f_sigma0 < TV_R(0.0) ||
+        !(cfg->f_abs_max > TV_R(0.0) && cfg->f_abs_max < TV_R(1.0)) || cfg->f_excite_rad_s < TV_R(0.0)) {
         return TV_ERR_CONFIG;
     }
     /* the explicit resistance error must leave the current's decay per sub-step in (0, 1):
@@ -292,26 +299,30 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     memcpy(ekf->P, cfg->P0, sizeof(mat3_t));
     /* the contact noise: a torque noise of density qc on the plate, nothing on the armature */
     (void)ekf_q_from_spectral(params, TV_R(0.0), cfg->qc_Nm2_s, ekf->Qc);
-    ekf->aug_on = cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0) || cfg->qr_ohm2_s > TV_R(0.0);
+    ekf->aug_on = cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0) || cfg->qr_ohm2_s > TV_R(0.0) ||
+                  cfg->qf_1_s > TV_R(0.0);
     ekf->g_cols = ((cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0)) ? 1u << TVM_A_TORQUE : 0u) |
-                  (cfg->qr_ohm2_s > TV_R(0.0) ? 1u << TVM_A_DR : 0u);
+                  (cfg->qr_ohm2_s > TV_R(0.0) ? 1u << TVM_A_DR : 0u) | (cfg->qf_1_s > TV_R(0.0) ? 1u << TVM_A_FRIC : 0u);
     ekf->d_beta = TV_EXP(-params->Ts_s / cfg->d_tau_s);
     if (cfg->qr_ohm2_s > TV_R(0.0)) {
         ekf->Paa[TVM_A_DR][TVM_A_DR] = cfg->r_sigma0_ohm * cfg->r_sigma0_ohm;
     }
+    if (cfg->qf_1_s > TV_R(0.0)) {
+        ekf->Paa[TVM_A_FRIC][TVM_A_FRIC] = cfg->f_sigma0 * cfg->f_sigma0;
+    }
     return TV_OK;
 }
 
-/* aug_sane(), bound_aug() and propagate() are written out for two augmented states (the other
- * one is 1 - q); a third must extend them (the damping and motor-constant experiments of the
- * README did): the build fails here first. */
-typedef char ekf_two_augmented_states[(TVM_NA == 2) ? 1 : -1];
+/* The augmented states are indexed TVM_A_* (tv_model.h); only those in use (bit q of
+ * ekf_t::g_cols) enter the loops below, which are unrolled with a test per state, so an unused
+ * state costs a branch on the 1 kHz path; its estimate and (co)variances stay 0. */
 
-/* The augmented part of an estimate: a and the (co)variances holding it. */
+/* The augmented part of an estimate: a and the (co)variances holding it, and which are in use. */
 typedef struct {
     tv_real_t a[TVM_NA];
     tv_real_t Pxa[TVM_NX][TVM_NA];
     tv_real_t Paa[TVM_NA][TVM_NA];
+    unsigned on;           /* the states in use (bit TVM_A_*: ekf_t::g_cols) */
 } aug_part_t;
 
 /* The augmented part is sane: finite, variances >= 0, |cov| <= sqrt(var var) with x and within. */
@@ -321,10 +332,20 @@ static int aug_sane(const tv_real_t *P, const aug_part_t *ap)
     tv_real_t sum = TV_R(0.0);
     int a;
     int q;
+    int r;
     for (q = 0; q < TVM_NA; ++q) {
-        sum += ap->a[q] + ap->Paa[q][0] + ap->Paa[q][1];
+        if ((ap->on & (1u << q)) == 0u) {
+            continue;
+        }
+        sum += ap->a[q];
         if (ap->Paa[q][q] < TV_R(0.0)) {
             return 0;
+        }
+        for (r = 0; r < TVM_NA; ++r) {
+            sum += ap->Paa[q][r];
+            if (r > q && ap->Paa[q][r] * ap->Paa[q][r] > ap->Paa[q][q] * ap->Paa[r][r] * slack) {
+                return 0;
+            }
         }
         for (a = 0; a < TVM_NX; ++a) {
             sum += ap->Pxa[a][q];
@@ -333,30 +354,43 @@ static int aug_sane(const tv_real_t *P, const aug_part_t *ap)
             }
         }
     }
-    return TV_IS_FINITE(sum) && ap->Paa[0][1] * ap->Paa[0][1] <= ap->Paa[0][0] * ap->Paa[1][1] * slack;
+    return TV_IS_FINITE(sum);
 }
 
 /* Each augmented variance held below its ceiling by scaling its row and column (as
- * apply_variance_bounds); the resistance error also held inside its bound. */
+ * apply_variance_bounds); the resistance and friction errors also held inside their bounds. */
 static void bound_aug(aug_part_t *ap, const ekf_config_t *cfg)
 {
-    const tv_real_t ceil_[TVM_NA] = {cfg->d_var_ceil, cfg->dr_abs_max_ohm * cfg->dr_abs_max_ohm};
+    const tv_real_t ceil_[TVM_NA] = {cfg->d_var_ceil, cfg->dr_abs_max_ohm * cfg->dr_abs_max_ohm,
+                                     cfg->f_abs_max * cfg->f_abs_max};
+    /* the contact torque has no bound on its value (0: none), only on its variance */
+    const tv_real_t bound[TVM_NA] = {TV_R(0.0), cfg->dr_abs_max_ohm, cfg->f_abs_max};
     int q;
+    int r;
     for (q = 0; q < TVM_NA; ++q) {
+        if ((ap->on & (1u << q)) == 0u) {
+            continue;
+        }
         if (ap->Paa[q][q] > ceil_[q]) {
             const tv_real_t f = TV_SQRT(ceil_[q] / ap->Paa[q][q]);
             ap->Pxa[0][q] *= f;
             ap->Pxa[1][q] *= f;
             ap->Pxa[2][q] *= f;
-            ap->Paa[q][1 - q] *= f;
-            ap->Paa[1 - q][q] *= f;
+            for (r = 0; r < TVM_NA; ++r) {
+                if (r != q) {
+                    ap->Paa[q][r] *= f;
+                    ap->Paa[r][q] *= f;
+                }
+            }
             ap->Paa[q][q] = ceil_[q];
         }
-    }
-    if (ap->a[TVM_A_DR] > cfg->dr_abs_max_ohm) {
-        ap->a[TVM_A_DR] = cfg->dr_abs_max_ohm;
-    } else if (ap->a[TVM_A_DR] < -cfg->dr_abs_max_ohm) {
-        ap->a[TVM_A_DR] = -cfg->dr_abs_max_ohm;
+        if (bound[q] > TV_R(0.0)) {
+            if (ap->a[q] > bound[q]) {
+                ap->a[q] = bound[q];
+            } else if (ap->a[q] < -bound[q]) {
+                ap->a[q] = -bound[q];
+            }
+        }
     }
 }
 
@@ -365,6 +399,7 @@ static void aug_get(const ekf_t *ekf, aug_part_t *ap)
     memcpy(ap->a, ekf->aug, sizeof ap->a);
     memcpy(ap->Pxa, ekf->Pxa, sizeof ap->Pxa);
     memcpy(ap->Paa, ekf->Paa, sizeof ap->Paa);
+    ap->on = ekf->g_cols;
 }
 
 static void aug_put(ekf_t *ekf, const aug_part_t *ap)
@@ -388,7 +423,9 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
     mat3_t Pn;
     /* the band may be on (covariance inflation) with no contact noise: nothing to add then */
     const int add_qc = contact && ekf->cfg.qc_Nm2_s > TV_R(0.0);
-    tv_real_t FPa[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0)}, {TV_R(0.0), TV_R(0.0)}, {TV_R(0.0), TV_R(0.0)}};
+    tv_real_t FPa[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0), TV_R(0.0)},
+                                     {TV_R(0.0), TV_R(0.0), TV_R(0.0)},
+                                     {TV_R(0.0), TV_R(0.0), TV_R(0.0)}};
     aug_part_t ap;
     int a;
     int b;
@@ -401,40 +438,53 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
         }
     }
     memset(&ap, 0, sizeof ap);
+    ap.on = ekf->g_cols;
     if (ekf->aug_on) {
-        const tv_real_t beta[TVM_NA] = {contact ? TV_R(1.0) : ekf->d_beta, TV_R(1.0)};
+        const tv_real_t beta[TVM_NA] = {contact ? TV_R(1.0) : ekf->d_beta, TV_R(1.0), TV_R(1.0)};
         const tv_real_t qa[TVM_NA] = {
             (contact ? ekf->cfg.qd_contact_Nm2_s : ekf->cfg.qd_free_Nm2_s) * ekf->model.p.Ts_s,
-            ekf->cfg.qr_ohm2_s * ekf->model.p.Ts_s};
+            ekf->cfg.qr_ohm2_s * ekf->model.p.Ts_s, ekf->cfg.qf_1_s * ekf->model.p.Ts_s};
+        const unsigned on = ap.on;
         int q;
         int r;
         TV_UNROLL3
         for (a = 0; a < TVM_NX; ++a) {
-            TV_UNROLL2
+            TV_UNROLL3
             for (q = 0; q < TVM_NA; ++q) {
-                const tv_real_t g = G != NULL ? G[a][q] : TV_R(0.0);
-                FPa[a][q] = F[a][0] * ekf->Pxa[0][q] + F[a][1] * ekf->Pxa[1][q] + F[a][2] * ekf->Pxa[2][q];
-                if (G != NULL) {
-                    FPa[a][q] += G[a][0] * ekf->Paa[0][q] + G[a][1] * ekf->Paa[1][q];
-                }
-                TV_UNROLL3
-                for (b = 0; b < TVM_NX; ++b) {
-                    FP[a][b] += g * ekf->Pxa[b][q];
+                if ((on & (1u << q)) != 0u) {
+                    FPa[a][q] = F[a][0] * ekf->Pxa[0][q] + F[a][1] * ekf->Pxa[1][q] + F[a][2] * ekf->Pxa[2][q];
+                    if (G != NULL) {
+                        const tv_real_t g = G[a][q];
+                        TV_UNROLL3
+                        for (r = 0; r < TVM_NA; ++r) {
+                            if ((on & (1u << r)) != 0u) {
+                                FPa[a][q] += G[a][r] * ekf->Paa[r][q];
+                            }
+                        }
+                        TV_UNROLL3
+                        for (b = 0; b < TVM_NX; ++b) {
+                            FP[a][b] += g * ekf->Pxa[b][q];
+                        }
+                    }
                 }
             }
         }
-        TV_UNROLL2
+        TV_UNROLL3
         for (q = 0; q < TVM_NA; ++q) {
-            TV_UNROLL3
-            for (a = 0; a < TVM_NX; ++a) {
-                ap.Pxa[a][q] = FPa[a][q] * beta[q];
+            if ((on & (1u << q)) != 0u) {
+                TV_UNROLL3
+                for (a = 0; a < TVM_NX; ++a) {
+                    ap.Pxa[a][q] = FPa[a][q] * beta[q];
+                }
+                TV_UNROLL3
+                for (r = 0; r < TVM_NA; ++r) {
+                    if ((on & (1u << r)) != 0u) {
+                        ap.Paa[q][r] = beta[q] * beta[r] * ekf->Paa[q][r];
+                    }
+                }
+                ap.Paa[q][q] += qa[q];
+                ap.a[q] = beta[q] * ekf->aug[q];
             }
-            TV_UNROLL2
-            for (r = 0; r < TVM_NA; ++r) {
-                ap.Paa[q][r] = beta[q] * beta[r] * ekf->Paa[q][r];
-            }
-            ap.Paa[q][q] += qa[q];
-            ap.a[q] = beta[q] * ekf->aug[q];
         }
     }
     /* Pn = FP F^T (+ FPa G^T) + Q, upper triangle computed once and mirrored: exactly symmetric. */
@@ -447,7 +497,8 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
                 Pn[a][b] += ekf->Qc[a][b];
             }
             if (ekf->aug_on && G != NULL) {
-                Pn[a][b] += FPa[a][0] * G[b][0] + FPa[a][1] * G[b][1];
+                /* unused columns of FPa and G are 0: adding them is exact, and cheaper than a test */
+                Pn[a][b] += FPa[a][0] * G[b][0] + FPa[a][1] * G[b][1] + FPa[a][2] * G[b][2];
             }
             Pn[b][a] = Pn[a][b];
         }
@@ -534,7 +585,7 @@ static int check_channel(const ekf_config_t *cfg, int ch, tv_real_t z)
  * The upper triangle is computed and mirrored, so P stays exactly symmetric.
  * Returns 0 on a non-positive innovation variance (nothing written).
  */
-static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, aug_part_t *ap, int dr_frozen, int j, tv_real_t z,
+static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, aug_part_t *ap, unsigned frozen, int j, tv_real_t z,
                          tv_real_t r, tv_real_t *innov, tv_real_t *innov_var)
 {
     tv_real_t K[TVM_NX];
@@ -556,41 +607,46 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, aug_part_t *ap, int dr_f
         /* the same Joseph form on the augmented rows (P_jq = Pxa_jq; old P throughout):
          *   A_aq = Pxa_aq - K_a Pxa_jq,  A_aj as below,  A_qj = Pxa_jq - Kq P_jj,  A_qr = Paa_qr - Kq Pxa_jr
          *   Pxa_aq <- A_aq - A_aj Kq + r K_a Kq,  Paa_qr <- A_qr - A_qj Kr + r Kq Kr
-         * The Joseph form holds for any gain: a frozen dR gets gain 0 (Schmidt update). */
-        tv_real_t Ka[TVM_NA];
-        tv_real_t A_qj[TVM_NA];
-        tv_real_t nPxa[TVM_NX][TVM_NA];
-        tv_real_t nPaa[TVM_NA][TVM_NA];
+         * The Joseph form holds for any gain: a frozen state (bit q of frozen) gets gain 0
+         * (Schmidt update). */
+        tv_real_t Ka[TVM_NA] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
+        tv_real_t A_qj[TVM_NA] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
+        tv_real_t Pxa_j[TVM_NA]; /* the old row j of Pxa, read after Pxa is overwritten */
+        tv_real_t A_aj[TVM_NX];
         int q;
         int rr;
-        TV_UNROLL2
+        TV_UNROLL3
         for (q = 0; q < TVM_NA; ++q) {
-            Ka[q] = (q == TVM_A_DR && dr_frozen) ? TV_R(0.0) : ap->Pxa[j][q] * inv_s;
-            A_qj[q] = ap->Pxa[j][q] - Ka[q] * P[j][j];
+            Pxa_j[q] = ap->Pxa[j][q];
+            if ((ap->on & (1u << q)) != 0u) {
+                Ka[q] = (frozen & (1u << q)) != 0u ? TV_R(0.0) : Pxa_j[q] * inv_s;
+                A_qj[q] = Pxa_j[q] - Ka[q] * P[j][j];
+            }
         }
         TV_UNROLL3
         for (a = 0; a < TVM_NX; ++a) {
-            const tv_real_t A_aj = P[a][j] - K[a] * P[j][j];
-            TV_UNROLL2
-            for (q = 0; q < TVM_NA; ++q) {
-                const tv_real_t A_aq = ap->Pxa[a][q] - K[a] * ap->Pxa[j][q];
-                nPxa[a][q] = A_aq - A_aj * Ka[q] + r * K[a] * Ka[q];
-            }
+            A_aj[a] = P[a][j] - K[a] * P[j][j];
         }
-        TV_UNROLL2
+        /* Paa first (it reads the old row j of Pxa, saved above), then Pxa in place: each entry
+         * reads only its own old value, row j's old values and A_aj; unused states keep 0 */
+        TV_UNROLL3
         for (q = 0; q < TVM_NA; ++q) {
-            TV_UNROLL2
-            for (rr = q; rr < TVM_NA; ++rr) {
-                const tv_real_t A_qr = ap->Paa[q][rr] - Ka[q] * ap->Pxa[j][rr];
-                nPaa[q][rr] = A_qr - A_qj[q] * Ka[rr] + r * Ka[q] * Ka[rr];
-                nPaa[rr][q] = nPaa[q][rr];
+            if ((ap->on & (1u << q)) != 0u) {
+                TV_UNROLL3
+                for (rr = q; rr < TVM_NA; ++rr) {
+                    if ((ap->on & (1u << rr)) != 0u) {
+                        const tv_real_t A_qr = ap->Paa[q][rr] - Ka[q] * Pxa_j[rr];
+                        ap->Paa[q][rr] = A_qr - A_qj[q] * Ka[rr] + r * Ka[q] * Ka[rr];
+                        ap->Paa[rr][q] = ap->Paa[q][rr];
+                    }
+                }
+                TV_UNROLL3
+                for (a = 0; a < TVM_NX; ++a) {
+                    const tv_real_t A_aq = ap->Pxa[a][q] - K[a] * Pxa_j[q];
+                    ap->Pxa[a][q] = A_aq - A_aj[a] * Ka[q] + r * K[a] * Ka[q];
+                }
+                ap->a[q] += Ka[q] * y;
             }
-        }
-        memcpy(ap->Pxa, nPxa, sizeof nPxa);
-        memcpy(ap->Paa, nPaa, sizeof nPaa);
-        TV_UNROLL2
-        for (q = 0; q < TVM_NA; ++q) {
-            ap->a[q] += Ka[q] * y;
         }
     }
     TV_UNROLL3
@@ -657,7 +713,7 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     tv_real_t x[TVM_NX];
     mat3_t P;
     aug_part_t ap;
-    int dr_frozen;
+    unsigned frozen;
     uint8_t use[EKF_NCH];
     uint32_t n_inflate = 0u;
     int ch;
@@ -694,8 +750,11 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     memcpy(x, ekf->x, sizeof x);
     memcpy(P, ekf->P, sizeof(mat3_t));
     aug_get(ekf, &ap);
-    /* dR is observed through the voltage dR i: frozen while the current is small */
-    dr_frozen = TV_FABS(x[TVM_I]) < ekf->cfg.dr_excite_A;
+    /* dR is observed through the voltage dR i: frozen while the current is small; the friction
+     * error through the sliding plate: frozen while it (nearly) sticks, and in the contact band,
+     * where the innovations are the contact law's errors, not friction's */
+    frozen = (TV_FABS(x[TVM_I]) < ekf->cfg.dr_excite_A ? 1u << TVM_A_DR : 0u) |
+             (TV_FABS(x[TVM_W]) < ekf->cfg.f_excite_rad_s || ekf->in_contact ? 1u << TVM_A_FRIC : 0u);
     for (ch = 0; ch < EKF_NCH; ++ch) {
         if (use[ch]) {
             /* the model's set-valued parts: a stop's contact, or a plate it predicts stuck (w
@@ -707,7 +766,7 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
                 inflate_at_contact(x[TVM_PHI], P, meas->z[ch], ekf->cfg.r[ch], ekf->cfg.contact_nis_gate, ekf->model.p.Ts_s)) {
                 ++n_inflate;
             }
-            if (!scalar_update(x, P, ekf->aug_on ? &ap : NULL, dr_frozen, channel_state[ch], meas->z[ch], ekf->cfg.r[ch], &res.innov[ch],
+            if (!scalar_update(x, P, ekf->aug_on ? &ap : NULL, frozen, channel_state[ch], meas->z[ch], ekf->cfg.r[ch], &res.innov[ch],
                                &res.innov_var[ch])) {
                 ++ekf->n_rejected;
                 if (out != NULL) {
@@ -832,6 +891,12 @@ void ekf_resistance_error(const ekf_t *ekf, tv_real_t *dR_ohm, tv_real_t *sigma_
 {
     *dR_ohm = ekf->aug[TVM_A_DR];
     *sigma_ohm = TV_SQRT(ekf->Paa[TVM_A_DR][TVM_A_DR]);
+}
+
+void ekf_friction_error(const ekf_t *ekf, tv_real_t *f, tv_real_t *sigma)
+{
+    *f = ekf->aug[TVM_A_FRIC];
+    *sigma = TV_SQRT(ekf->Paa[TVM_A_FRIC][TVM_A_FRIC]);
 }
 
 void ekf_health(const ekf_t *ekf, ekf_health_t *h)

@@ -64,6 +64,16 @@ extern "C" {
 #define EKF_DEFAULT_DR_ABS_MAX_OHM TV_R(3.0)
 #define EKF_DEFAULT_DR_EXCITE_A TV_R(0.2)
 
+/** Default relative friction error state (ekf_config_t::qf_1_s ...): density, initial sigma,
+ *  bound, excitation speed. The density is the largest of 1e-4 / 1e-3 / 1e-2 that keeps the
+ *  nominal unit's paper sine at its accuracy (0.0424 / 0.0454 / 0.0458 rad/s against 0.0423
+ *  without the state; training units, README "Friction adaptation"); its sigma then grows by
+ *  0.08 a minute. */
+#define EKF_DEFAULT_QF_1_S TV_R(1.0e-4)
+#define EKF_DEFAULT_F_SIGMA0 TV_R(0.3)
+#define EKF_DEFAULT_F_ABS_MAX TV_R(0.8)
+#define EKF_DEFAULT_F_EXCITE_RAD_S TV_R(0.5)
+
 /** Default contact covariance-inflation gate (ekf_config_t::contact_nis_gate): 9 (a 3-sigma
  *  angle innovation). Chosen on the TRAINING units (population --first-unit 0, 30 units x 8
  *  scenarios, README "Stop contact"): against 0 (off), NEES run average max 186 -> 14, largest
@@ -142,6 +152,20 @@ typedef struct {
      */
     tv_real_t dr_excite_A;
     /**
+     * Relative friction error f (README "Friction adaptation"): a state [-] that scales the
+     * model's friction level, Coulomb and static alike (g(w) (1 + f): wear, contamination, ice,
+     * a unit other than the model's), a random walk of density qf_1_s [1/s] starting at 0 with
+     * standard deviation f_sigma0. Friction is seen only while the plate slides (a stuck plate
+     * says only that friction exceeds the drive), so while |w| < f_excite_rad_s its update is a
+     * Schmidt (consider) update: gain 0, covariance carried exactly, the estimate frozen. Held
+     * inside +-f_abs_max (< 1: friction stays positive). qf_1_s = 0: no such state. >= 0;
+     * f_sigma0 >= 0; 0 < f_abs_max < 1; f_excite_rad_s >= 0.
+     */
+    tv_real_t qf_1_s;
+    tv_real_t f_sigma0;                 /**< initial standard deviation of f [-], >= 0 */
+    tv_real_t f_abs_max;                /**< bound on |f| [-], in (0, 1) */
+    tv_real_t f_excite_rad_s;           /**< f is updated only while |w estimate| is at least this [rad/s], >= 0 */
+    /**
      * Contact covariance inflation (README "Stop contact"): when the predicted angle is in the
      * contact band, or the model predicts the plate stuck (w exactly 0: the other set-valued part
      * of the model, where a wrong stiction lets the real plate creep) and the angle moved by no
@@ -170,13 +194,13 @@ typedef struct {
     uint32_t n_stop_moves;              /**< times a stop was moved out (stop learning) */
     int in_contact;                     /**< the last prediction ended in the contact band */
     uint32_t n_inflate;                 /**< corrections that inflated the covariance (contact_nis_gate) */
-    /* the augmented states a = (contact torque d [N m], resistance error dR [ohm]), index
-     * TVM_A_TORQUE / TVM_A_DR (tv_model.h): estimate, covariance with x, covariance. A state that
+    /* the augmented states a = (contact torque d [N m], resistance error dR [ohm], relative
+     * friction error f [-]), index TVM_A_TORQUE / TVM_A_DR / TVM_A_FRIC (tv_model.h): estimate, covariance with x, covariance. A state that
      * is off keeps a = 0 and zero (co)variances, so it changes nothing. */
     int aug_on;                         /**< 1 when any augmented state is in use (else the 3-state filter, exactly) */
     unsigned g_cols;                    /**< the augmented states in use (tvm_step_aug()'s g_cols: bit TVM_A_*) */
     tv_real_t d_beta;                   /**< exp(-Ts / d_tau_s): decay per period of d outside the band */
-    tv_real_t aug[TVM_NA];              /**< augmented estimate (N m, ohm) */
+    tv_real_t aug[TVM_NA];              /**< augmented estimate (N m, ohm, -) */
     tv_real_t Pxa[TVM_NX][TVM_NA];      /**< cov(x, a) */
     tv_real_t Paa[TVM_NA][TVM_NA];      /**< cov(a, a) */
 } ekf_t;
@@ -320,6 +344,12 @@ void ekf_resistance_error(const ekf_t *ekf, tv_real_t *dR_ohm, tv_real_t *sigma_
  *         nothing changes.
  */
 int ekf_set_contact_law(ekf_t *ekf, tv_real_t k_stop, tv_real_t exponent, tv_real_t d_stop);
+
+/**
+ * The relative friction error estimate f [-] (the filter's friction level is g(w) (1 + f)) and
+ * its standard deviation; both 0 when the configuration has no such state.
+ */
+void ekf_friction_error(const ekf_t *ekf, tv_real_t *f, tv_real_t *sigma);
 
 /** The filter's health record (counters since ekf_init()). */
 void ekf_health(const ekf_t *ekf, ekf_health_t *h);

@@ -180,7 +180,7 @@ void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_
 void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv_real_t u_V,
                    tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX])
 {
-    const tv_real_t a_in[TVM_NA] = {d_Nm, TV_R(0.0)};
+    const tv_real_t a_in[TVM_NA] = {d_Nm, TV_R(0.0), TV_R(0.0)};
     tv_real_t Gaug[TVM_NX][TVM_NA];
     tvm_step_aug(m, x, a_in, u_V, x_next, F, G != NULL ? Gaug : NULL, 1u << TVM_A_TORQUE);
     if (F != NULL && G != NULL) {
@@ -190,6 +190,18 @@ void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv
     }
 }
 
+/* One column q of G = dx/da through a sub-step: G <- S G + (di1/da, dw1/da, h dw1/da), with S's
+ * structure as in tvm_step_aug() (row 0 = (a_i, di1/dw, 0), row 1 = s1, row 2 = e_phi + h row 1). */
+static void chain_g(tv_real_t Ga[TVM_NX][TVM_NA], int q, tv_real_t a_i, tv_real_t di1_dw, const tv_real_t s1[TVM_NX],
+                    tv_real_t h, tv_real_t di1_da, tv_real_t dw1_da)
+{
+    const tv_real_t g0 = a_i * Ga[0][q] + di1_dw * Ga[1][q] + di1_da;
+    const tv_real_t g1 = s1[0] * Ga[0][q] + s1[1] * Ga[1][q] + s1[2] * Ga[2][q] + dw1_da;
+    Ga[0][q] = g0;
+    Ga[1][q] = g1;
+    Ga[2][q] += h * g1;
+}
+
 void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_in[TVM_NA], tv_real_t u_V,
                   tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA],
                   unsigned g_cols)
@@ -197,6 +209,8 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
     const tvm_params_t *p = &m->p;
     const tv_real_t d_Nm = a_in[TVM_A_TORQUE];
     const tv_real_t dR = a_in[TVM_A_DR];
+    /* friction level scale (1 + f) */
+    const tv_real_t fs = TV_R(1.0) + a_in[TVM_A_FRIC];
     /* current decay per sub-step with the resistance error taken explicitly */
     const tv_real_t a_i = m->a - m->b_A_V * dR;
     tv_real_t i = x[TVM_I];
@@ -206,7 +220,9 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                                     {TV_R(0.0), TV_R(1.0), TV_R(0.0)},
                                     {TV_R(0.0), TV_R(0.0), TV_R(1.0)}};
     /* d x / d a, accumulated through the sub-steps: Ga <- S Ga + (di1/da, dw1/da, h dw1/da) */
-    tv_real_t Ga[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0)}, {TV_R(0.0), TV_R(0.0)}, {TV_R(0.0), TV_R(0.0)}};
+    tv_real_t Ga[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0), TV_R(0.0)},
+                                    {TV_R(0.0), TV_R(0.0), TV_R(0.0)},
+                                    {TV_R(0.0), TV_R(0.0), TV_R(0.0)}};
     int k;
 
     for (k = 0; k < p->substeps; ++k) {
@@ -219,7 +235,8 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
         const tv_real_t mstop = stop_torque(m, phi, w, &dMs_dphi, &dMs_dw);
         const tv_real_t torque = m->nKt_Nm_A * i1 - p->M0_Nm * sp - p->c_Nm_rad * phi + mstop + d_Nm;
         const tv_real_t z = w + m->h_J * torque;
-        const tv_real_t D = m->h_J * friction_level(m, w, &dg_dw);
+        const tv_real_t g_lvl = friction_level(m, w, &dg_dw);
+        const tv_real_t D = m->h_J * g_lvl * fs;
         const tv_real_t az = TV_FABS(z);
         const int slipping = az > D;
         const tv_real_t sz = z >= TV_R(0.0) ? TV_R(1.0) : TV_R(-1.0);
@@ -242,7 +259,7 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                 const tv_real_t dT_dw = m->nKt_Nm_A * di1_dw + dMs_dw;
                 const tv_real_t dT_dphi = -p->M0_Nm * dsp - p->c_Nm_rad + dMs_dphi;
                 s1[0] = m->kappa * (m->h_J * dT_di);
-                s1[1] = m->kappa * (TV_R(1.0) + m->h_J * dT_dw - sz * m->h_J * dg_dw);
+                s1[1] = m->kappa * (TV_R(1.0) + m->h_J * dT_dw - sz * m->h_J * dg_dw * fs);
                 s1[2] = m->kappa * (m->h_J * dT_dphi);
             }
             for (c = 0; c < TVM_NX; ++c) {
@@ -254,19 +271,19 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
             }
             if (G != NULL) {
                 /* direct effects of this sub-step: the torque acts on w1 alone; the resistance
-                 * error on i1 (-b i) and, through the torque n Kt i1, on w1 */
-                const tv_real_t di1_da[TVM_NA] = {TV_R(0.0), -m->b_A_V * i};
+                 * error on i1 (-b i) and, through the torque n Kt i1, on w1; the friction error
+                 * on w1 through D (w1 = kappa (z - sz D), dD/df = (h / J) g). Only the columns
+                 * asked for are computed. */
                 const tv_real_t dw1_dT = slipping ? m->kappa * m->h_J : TV_R(0.0);
-                const tv_real_t dw1_da[TVM_NA] = {dw1_dT, dw1_dT * m->nKt_Nm_A * di1_da[TVM_A_DR]};
-                int q;
-                for (q = 0; q < TVM_NA; ++q) {
-                    if ((g_cols & (1u << q)) != 0u) {
-                        const tv_real_t g0 = a_i * Ga[0][q] + di1_dw * Ga[1][q] + di1_da[q];
-                        const tv_real_t g1 = s1[0] * Ga[0][q] + s1[1] * Ga[1][q] + s1[2] * Ga[2][q] + dw1_da[q];
-                        Ga[0][q] = g0;
-                        Ga[1][q] = g1;
-                        Ga[2][q] += m->h_s * g1;
-                    }
+                if ((g_cols & (1u << TVM_A_TORQUE)) != 0u) {
+                    chain_g(Ga, TVM_A_TORQUE, a_i, di1_dw, s1, m->h_s, TV_R(0.0), dw1_dT);
+                }
+                if ((g_cols & (1u << TVM_A_DR)) != 0u) {
+                    const tv_real_t di1_ddr = -m->b_A_V * i;
+                    chain_g(Ga, TVM_A_DR, a_i, di1_dw, s1, m->h_s, di1_ddr, dw1_dT * m->nKt_Nm_A * di1_ddr);
+                }
+                if ((g_cols & (1u << TVM_A_FRIC)) != 0u) {
+                    chain_g(Ga, TVM_A_FRIC, a_i, di1_dw, s1, m->h_s, TV_R(0.0), -sz * dw1_dT * g_lvl);
                 }
             }
         }

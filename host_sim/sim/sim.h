@@ -205,6 +205,9 @@ typedef struct {
     double r_est_ohm;                /**< the filter's winding resistance R + dR at the end [ohm] */
     double r_sigma_ohm;              /**< its standard deviation [ohm] (0: no resistance-error state) */
     double r_true_ohm;               /**< the plant's winding resistance [ohm] */
+    double friction_rel;             /**< the filter's friction level relative to its model's, 1 + f, at the end [-] */
+    double friction_rel_sigma;       /**< its standard deviation [-] (0: no friction-error state) */
+    double friction_rel_true;        /**< the plant's Coulomb friction relative to the filter model's [-] */
     int stop_learn_phase;            /**< sl_phase_t at the end (SL_IDLE: the routine did not run) */
     int stop_learn_error;            /**< sl_error_t at the end */
     double stop_learn_closed_rad;    /**< learned closed stop [rad] (NaN unless SL_DONE) */

@@ -123,6 +123,9 @@ int sim_result_print(FILE *f, const sim_result_t *r)
             r->nis_ch_avg[EKF_CH_CURRENT], r->nis_ch_avg[EKF_CH_VELOCITY], r->nis_ch_avg[EKF_CH_ANGLE]);
     fprintf(f, "winding resistance at the end: estimate %.4g +- %.3g ohm (R + dR, ekf_resistance_error()), plant %.4g ohm\n",
             r->r_est_ohm, r->r_sigma_ohm, r->r_true_ohm);
+    fprintf(f, "friction level at the end: %.4g +- %.3g of the filter model's (1 + f, ekf_friction_error()), plant's "
+               "Coulomb friction %.4g of it\n",
+            r->friction_rel, r->friction_rel_sigma, r->friction_rel_true);
     if (r->stop_learn_phase != (int)SL_IDLE) {
         fprintf(f, "stop learning (APP_MODE_STOP_LEARN): %s%s%s after %.3f s; closed %.5f rad, open %.5f rad; "
                    "largest speed near a stop %.3g rad/s\n",
@@ -206,6 +209,12 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     sim_jnum(f, r->r_sigma_ohm);
     fputs(", \"plant_ohm\": ", f);
     sim_jnum(f, r->r_true_ohm);
+    fputs("},\n  \"friction_level\": {\"estimate_rel\": ", f);
+    sim_jnum(f, r->friction_rel);
+    fputs(", \"sigma_rel\": ", f);
+    sim_jnum(f, r->friction_rel_sigma);
+    fputs(", \"plant_coulomb_rel\": ", f);
+    sim_jnum(f, r->friction_rel_true);
     fputs("},\n", f);
     if (r->tracking.n > 0u) {
         fprintf(f, "  \"tracking\": {\"steps\": %lu, \"worst_overshoot_pct\": ", (unsigned long)r->tracking.n_steps);

@@ -483,6 +483,14 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->r_sigma_ohm = (double)sR;
         res->r_true_ohm = pcfg.R_ohm;
     }
+    {
+        tv_real_t f;
+        tv_real_t sf;
+        ekf_friction_error(&app->ekf, &f, &sf);
+        res->friction_rel = 1.0 + (double)f;
+        res->friction_rel_sigma = (double)sf;
+        res->friction_rel_true = app->ekf.model.p.Mc_Nm > TV_R(0.0) ? pcfg.Mc_Nm / (double)app->ekf.model.p.Mc_Nm : 1.0;
+    }
     res->stop_learn_phase = (int)app->sl.phase;
     res->stop_learn_error = (int)app->sl.error;
     if (app->sl.phase == SL_DONE) {
