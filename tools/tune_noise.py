@@ -95,7 +95,7 @@ def run_population(exe, qu, qT, qc, plants, seeds, tmp):
     with open(params, "w", encoding="utf-8") as fh:
         fh.write(f"ekf.qu_V2_s = {qu!r}\nekf.qT_Nm2_s = {qT!r}\nekf.qc_Nm2_s = {qc!r}\n")
     cmd = [exe, "--first-unit", "0", "--plants", str(plants), "--first-seed", str(POP_FIRST_TRAIN_SEED),
-           "--seeds", str(seeds), "--params", params, "--json", out, "--runs-csv", runs]
+           "--seeds", str(seeds), "--sections", "stops,all", "--params", params, "--json", out, "--runs-csv", runs]
     res = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
     if res.returncode != 0:
         sys.exit(f"tune_noise: {' '.join(cmd)} failed ({res.returncode}): {res.stderr.strip()[-400:]}")

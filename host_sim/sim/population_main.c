@@ -12,7 +12,10 @@
  *
  * SECTIONS. stops_varied: plant_draw(PLANT_SPREAD_STOPS) (stops, contact, sensor front end
  * varied; motor, friction and springs nominal in plant and filter alike); all_varied:
- * PLANT_SPREAD_ALL (everything varied, the filter on its class's nominal model).
+ * PLANT_SPREAD_ALL (everything varied, the filter on its class's nominal model);
+ * all_varied_adapted: the all_varied units and runs, each begun with POP_ADAPT_WARMUP_S of
+ * normal excitation (sim_options_t::warmup_s) and scored after it, so the filter's adapted
+ * parameters (winding resistance, friction) have seen the unit (issue 11).
  *
  * PER RUN: velocity ratio = RMSE of the differentiated angle / RMSE of the filter (velocity,
  * scored ticks); NEES run average (3 dof); largest 100 ms NEES average; whether the
@@ -32,6 +35,13 @@
 #include "sim.h"
 #include "sim_unit.h"
 #include "tv_status.h"
+
+/** Sections: index, name (summary.json key), the spread drawn, the warm-up before scoring [s]. */
+enum { POP_SEC_STOPS = 0, POP_SEC_ALL = 1, POP_SEC_ADAPTED = 2, POP_NSEC = 3 };
+/** Warm-up of all_varied_adapted [s]. */
+#define POP_ADAPT_WARMUP_S 5.0
+static const char *const s_sec_name[POP_NSEC] = {"stops_varied", "all_varied", "all_varied_adapted"};
+static const char *const s_sec_short[POP_NSEC] = {"stops", "all", "adapted"};
 
 /** First unit ID of the evaluation set (IDs below it are the training set). */
 #define POP_FIRST_EVAL_UNIT 1000u
@@ -60,7 +70,7 @@ typedef struct {
     int faults;         /**< latched faults at the end */
 } pop_run_t;
 
-static pop_run_t s_runs[2][POP_RUNS_MAX];
+static pop_run_t s_runs[POP_NSEC][POP_RUNS_MAX];
 
 /** Start-up stop learning over a section's units (--stop-learning on). */
 typedef struct {
@@ -72,7 +82,7 @@ typedef struct {
     double time_max_s;     /**< longest routine [s] */
 } pop_learn_t;
 
-static pop_learn_t s_learn[2];
+static pop_learn_t s_learn[POP_NSEC];
 
 static double max_finite(double a, double b)
 {
@@ -141,7 +151,7 @@ static void usage(FILE *f)
     int k;
     fprintf(f,
             "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--first-seed F] [--scenarios A,B,...]\n"
-            "          [--duration S] [--sections stops,all] [--params FILE] [--stop-learning on|off]\n"
+            "          [--duration S] [--sections LIST] [--params FILE] [--stop-learning on|off]\n"
             "          [--json PATH] [--runs-csv PATH] [--params-out DIR] [--quick] [--help]\n"
             "\n"
             "Runs the application's estimator (double build) on a population of throttles\n"
@@ -164,7 +174,9 @@ static void usage(FILE *f)
     fprintf(f,
             "\n"
             "  --duration S      length of every run [s] (default: each scenario's own)\n"
-            "  --sections LIST   stops, all or stops,all (default both)\n"
+            "  --sections LIST   comma-separated: stops (stops_varied), all (all_varied), adapted\n"
+            "                    (all_varied_adapted: the all_varied runs begun with 5 s of normal\n"
+            "                    excitation, scored after it); default stops,all,adapted\n"
             "  --params FILE     filter parameters applied on top of each unit's configuration\n"
             "                    (e.g. ekf.contact_band_rad; host_sim/replay/params.h)\n"
             "  --stop-learning on|off  on (default): each unit first runs the start-up stop\n"
@@ -286,12 +298,12 @@ int main(int argc, char **argv)
     unsigned long long first_seed = 1u;
     double duration_s = 0.0;
     int use_scn[SIM_SCN_COUNT];
-    int sections[2] = {1, 1};
+    int sections[POP_NSEC] = {1, 1, 1};
     const char *params_path = NULL;
     const char *json_path = "out/population/summary.json";
     const char *runs_csv = NULL;
     const char *params_out = NULL;
-    unsigned n_runs[2] = {0u, 0u};
+    unsigned n_runs[POP_NSEC] = {0u, 0u, 0u};
     double nominal_rmse = (double)NAN;
     FILE *f;
     FILE *csv = NULL;
@@ -305,7 +317,7 @@ int main(int argc, char **argv)
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
         use_scn[k] = k != (int)SIM_SCN_STUCK_RELEASE && k != (int)SIM_SCN_STOP_LEARN;
     }
-    for (k = 0; k < 2; ++k) {
+    for (k = 0; k < POP_NSEC; ++k) {
         s_learn[k].err_closed_max = s_learn[k].err_open_max = s_learn[k].speed_max = s_learn[k].time_max_s = (double)NAN;
     }
     for (k = 1; k < argc; ++k) {
@@ -373,16 +385,24 @@ int main(int argc, char **argv)
                 use_scn[s] = 1;
             }
         } else if (strcmp(a, "--sections") == 0) {
-            if (strcmp(v, "stops") == 0) {
-                sections[0] = 1;
-                sections[1] = 0;
-            } else if (strcmp(v, "all") == 0) {
-                sections[0] = 0;
-                sections[1] = 1;
-            } else if (strcmp(v, "stops,all") == 0 || strcmp(v, "all,stops") == 0) {
-                sections[0] = sections[1] = 1;
-            } else {
-                return usage_error("option %s: '%s' is not stops, all or stops,all", a, v);
+            char list[64];
+            char *save = NULL;
+            char *tok;
+            int q;
+            if (strlen(v) >= sizeof list) {
+                return usage_error("option %s: '%s' is too long", a, v);
+            }
+            memcpy(list, v, strlen(v) + 1u);
+            for (q = 0; q < POP_NSEC; ++q) {
+                sections[q] = 0;
+            }
+            for (tok = strtok_r(list, ",", &save); tok != NULL; tok = strtok_r(NULL, ",", &save)) {
+                for (q = 0; q < POP_NSEC && strcmp(tok, s_sec_short[q]) != 0; ++q) {
+                }
+                if (q == POP_NSEC) {
+                    return usage_error("option %s: unknown section '%s' (stops, all, adapted)", a, tok);
+                }
+                sections[q] = 1;
             }
         } else if (strcmp(a, "--params") == 0) {
             params_path = v;
@@ -446,8 +466,8 @@ int main(int argc, char **argv)
         nominal_rmse = r.rmse[SIM_EST_APP][TVM_W];
     }
 
-    for (sec = 0; sec < 2; ++sec) {
-        const plant_spread_t spread = sec == 0 ? PLANT_SPREAD_STOPS : PLANT_SPREAD_ALL;
+    for (sec = 0; sec < POP_NSEC; ++sec) {
+        const plant_spread_t spread = sec == POP_SEC_STOPS ? PLANT_SPREAD_STOPS : PLANT_SPREAD_ALL;
         unsigned long long p;
         if (!sections[sec]) {
             continue;
@@ -476,7 +496,7 @@ int main(int argc, char **argv)
                 fprintf(stderr, "%s: unit %llu: %s\n", s_prog, (unsigned long long)unit, tv_status_str(rc));
                 return 1;
             }
-            if (params_out != NULL && write_unit_params(params_out, sec == 0 ? "stops" : "all", unit, &ac) != 0) {
+            if (params_out != NULL && write_unit_params(params_out, s_sec_short[sec], unit, &ac) != 0) {
                 return 1;
             }
             for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
@@ -492,6 +512,7 @@ int main(int argc, char **argv)
                     opt.scenario = (sim_scenario_t)k;
                     opt.seed = (uint64_t)s;
                     opt.duration_s = duration_s;
+                    opt.warmup_s = sec == POP_SEC_ADAPTED ? POP_ADAPT_WARMUP_S : 0.0;
                     opt.plant = &pc;
                     opt.app = &ac;
                     rc = sim_run(&opt, &r);
@@ -516,14 +537,14 @@ int main(int argc, char **argv)
                     run->flagged = r.consistency_episodes > 0u;
                     run->faults = r.faults != 0u;
                     if (csv != NULL) {
-                        fprintf(csv, "%s,%llu,%s,%s,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d\n", sec == 0 ? "stops_varied" : "all_varied",
+                        fprintf(csv, "%s,%llu,%s,%s,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d\n", s_sec_name[sec],
                                 (unsigned long long)unit, plant_class_name(cls), sim_scenario_name(opt.scenario), s,
                                 run->rmse_filter, run->rmse_diff, run->ratio, run->nees_avg, run->nees_win_max, run->flagged,
                                 (int)r.faults);
                     }
                 }
             }
-            fprintf(stderr, "\r%s: %s %llu/%llu units", s_prog, sec == 0 ? "stops_varied" : "all_varied", p + 1u, plants);
+            fprintf(stderr, "\r%s: %s %llu/%llu units", s_prog, s_sec_name[sec], p + 1u, plants);
         }
         fputc('\n', stderr);
     }
@@ -534,13 +555,13 @@ int main(int argc, char **argv)
 
     /* tables */
     printf("nominal unit (class a), paper_sine, seed 1: filter velocity RMSE %.4f rad/s\n", nominal_rmse);
-    for (sec = 0; sec < 2; ++sec) {
+    for (sec = 0; sec < POP_NSEC; ++sec) {
         pop_sum_t s;
         if (!sections[sec]) {
             continue;
         }
         printf("\n%s: units %llu..%llu, seeds %llu..%llu (ratio = differentiation RMSE / filter RMSE, velocity)\n",
-               sec == 0 ? "stops_varied" : "all_varied", first_unit, first_unit + plants - 1u, first_seed,
+               s_sec_name[sec], first_unit, first_unit + plants - 1u, first_seed,
                first_seed + seeds - 1u);
         printf("  %-14s %5s  %8s  %8s  %9s  %9s  %9s  %5s  %5s\n", "scenario", "runs", "worst", "median", "NEES min",
                "NEES max", "NEES 0.1s", "flag", "fault");
@@ -595,18 +616,18 @@ int main(int argc, char **argv)
         }
     }
     fputs("]", f);
-    for (sec = 0; sec < 2; ++sec) {
+    for (sec = 0; sec < POP_NSEC; ++sec) {
         pop_sum_t s;
         if (!sections[sec]) {
             continue;
         }
-        fprintf(f, ",\n  \"%s\": ", sec == 0 ? "stops_varied" : "all_varied");
+        fprintf(f, ",\n  \"%s\": ", s_sec_name[sec]);
         summarise(s_runs[sec], n_runs[sec], -1, &s);
         json_sum(f, &s, (unsigned)plants);
         if (stop_learning) {
             const pop_learn_t *l = &s_learn[sec];
             fprintf(f, ",\n  \"%s_stop_learning\": {\"units\": %u, \"failed\": %u, \"err_closed_max_rad\": ",
-                    sec == 0 ? "stops_varied" : "all_varied", l->units, l->failed);
+                    s_sec_name[sec], l->units, l->failed);
             json_num(f, l->err_closed_max);
             fputs(", \"err_open_max_rad\": ", f);
             json_num(f, l->err_open_max);
@@ -616,7 +637,7 @@ int main(int argc, char **argv)
             json_num(f, l->time_max_s);
             fputs("}", f);
         }
-        fprintf(f, ",\n  \"%s_per_scenario\": {", sec == 0 ? "stops_varied" : "all_varied");
+        fprintf(f, ",\n  \"%s_per_scenario\": {", s_sec_name[sec]);
         {
             int first = 1;
             for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {

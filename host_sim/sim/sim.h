@@ -52,6 +52,10 @@ extern "C" {
 
 /** Metrics ignore the ticks before this time [s] (filter convergence from x0 = 0). */
 #define SIM_TRANSIENT_S 0.2
+/** Longest warm-up (sim_options_t::warmup_s) [s] and its excitation. */
+#define SIM_WARMUP_MAX_S 60.0
+#define SIM_WARMUP_AMPLITUDE_V 6.0
+#define SIM_WARMUP_FREQ_HZ 1.0
 /** Tick period of the simulation [s] (APP_PERIOD_US). */
 #define SIM_TICK_S 1e-3
 /** Window of sim_result_t::nees_window_max [ticks] (100 ms). */
@@ -164,6 +168,13 @@ typedef struct {
     const plant_config_t *plant; /**< NULL: plant_config_default(); pwm_ripple applies on top */
     const app_config_t *app;   /**< NULL: app_config_default(); the scenario sets the control
                                     mode and its parameters, then setup / Q / R overrides apply */
+    /** 0: none; > 0 (at most SIM_WARMUP_MAX_S): the run begins with this long a warm-up of
+     *  normal excitation (APP_MODE_SINE SIM_WARMUP_AMPLITUDE_V at SIM_WARMUP_FREQ_HZ: both ways,
+     *  reversals at low speed, the open stop touched), and only then the scenario starts, its
+     *  time and its scoring counted from there: the filter's adapted parameters (resistance,
+     *  friction) have seen the unit before it is scored. Not with stuck_release and stop_learn,
+     *  which start from a given plate state. [s] */
+    double warmup_s;
     uint32_t drop_tick_every;  /**< 0: never; N > 1: every N-th tick the application is not run
                                     (a missing sample, predicted across by the application) */
     FILE *csv;                 /**< NULL, or a stream for the CSV log (header + one line per tick) */

@@ -59,6 +59,13 @@ int sim_check_options(const sim_options_t *opt)
     if (opt->setup != EKF_SETUP_CURRENT_ANGLE && opt->setup != EKF_SETUP_PAPER_3MEAS) {
         return TV_ERR_RANGE;
     }
+    if (!sim_finite(opt->warmup_s)) {
+        return TV_ERR_NONFINITE;
+    }
+    if (opt->warmup_s < 0.0 || opt->warmup_s > SIM_WARMUP_MAX_S ||
+        (opt->warmup_s > 0.0 && (opt->scenario == SIM_SCN_STUCK_RELEASE || opt->scenario == SIM_SCN_STOP_LEARN))) {
+        return TV_ERR_RANGE;
+    }
     return TV_OK;
 }
 
@@ -127,6 +134,8 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
     uint32_t n_ticks;
     uint32_t k;
     int rc;
+    app_control_t scenario_control;
+    int scenario_started = 0;
 
     if (opt == NULL || res == NULL) {
         if (res != NULL) {
@@ -140,6 +149,7 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         return rc;
     }
     duration_s = opt->duration_s > 0.0 ? opt->duration_s : sim_scenario_duration_s(opt->scenario);
+    duration_s += opt->warmup_s;
     n_ticks = (uint32_t)floor(duration_s / SIM_TICK_S + 0.5);
     res->scenario = opt->scenario;
     res->seed = opt->seed;
@@ -178,6 +188,13 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
     if (rc != TV_OK) {
         return rc;
     }
+    scenario_control = acfg.control;
+    if (opt->warmup_s > 0.0) {
+        /* the warm-up first; the scenario's own control at its start (below) */
+        acfg.control.mode = APP_MODE_SINE;
+        acfg.control.amplitude_V = (tv_real_t)SIM_WARMUP_AMPLITUDE_V;
+        acfg.control.freq_Hz = (tv_real_t)SIM_WARMUP_FREQ_HZ;
+    }
     rc = app_init(app, &acfg);
     if (rc != TV_OK) {
         return rc;
@@ -210,7 +227,9 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
 
     for (k = 0; k < n_ticks; ++k) {
         const double t_s = (double)k * SIM_TICK_S;
-        const int scored = t_s >= SIM_TRANSIENT_S - 1e-9;
+        /* the scenario's own time (after the warm-up) */
+        const double tau_s = t_s - opt->warmup_s;
+        const int scored = tau_s >= SIM_TRANSIENT_S - 1e-9;
         const uint32_t steps_before = app->n_steps;
         const double u_prev_V = (double)app->u_applied_V;
         app_output_t out;
@@ -220,7 +239,17 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         double est[SIM_EST_COUNT][TVM_NX];
         int a;
 
-        rc = sim_scenario_update(opt->scenario, app, t_s);
+        if (tau_s < -1e-9) {
+            rc = TV_OK; /* warming up */
+        } else if (opt->warmup_s > 0.0 && !scenario_started) {
+            scenario_started = 1;
+            rc = app_set_control(app, &scenario_control);
+            if (rc == TV_OK) {
+                rc = sim_scenario_update(opt->scenario, app, tau_s);
+            }
+        } else {
+            rc = sim_scenario_update(opt->scenario, app, tau_s);
+        }
         if (rc != TV_OK) {
             return rc;
         }
