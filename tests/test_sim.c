@@ -468,6 +468,35 @@ static void test_missing_samples_are_counted(void)
     TV_CHECK_EQ_INT(sim_run(&o, &r), TV_ERR_RANGE);
 }
 
+/* What test_warmup_precedes_the_scenario_and_its_scoring records of each row. */
+typedef struct {
+    double phi_min_warm;
+    double phi_max_warm;
+    int targets_warm;  /* rows with a target (closed loop) during the warm-up */
+    int targets_after; /* rows with a target after it */
+    double last_target;
+    double last_phi;
+} trace_t;
+
+static void trace_row(const sim_row_t *row, void *user)
+{
+    trace_t *t = (trace_t *)user;
+    const int has_target = isfinite(row->target_rad);
+    if (row->t_s < 1.0 - 1e-9) {
+        if (row->truth[2] < t->phi_min_warm) {
+            t->phi_min_warm = row->truth[2];
+        }
+        if (row->truth[2] > t->phi_max_warm) {
+            t->phi_max_warm = row->truth[2];
+        }
+        t->targets_warm += has_target;
+    } else {
+        t->targets_after += has_target;
+        t->last_target = row->target_rad;
+        t->last_phi = row->truth[2];
+    }
+}
+
 static void test_options_are_validated(void)
 {
     sim_options_t o;
@@ -486,6 +515,47 @@ static void test_options_are_validated(void)
     TV_CHECK_EQ_INT(sim_run(&o, &r), TV_ERR_RANGE);
     TV_CHECK_EQ_INT(sim_run(NULL, &r), TV_ERR_NULL);
     TV_CHECK_EQ_INT(sim_scenario_from_name("nope", &o.scenario), TV_ERR_RANGE);
+    /* warm-up: finite, within its bound, not before a scenario that sets the plate's state */
+    sim_options_default(&o);
+    o.warmup_s = TEST_NAN;
+    TV_CHECK_EQ_INT(sim_run(&o, &r), TV_ERR_NONFINITE);
+    o.warmup_s = -0.1;
+    TV_CHECK_EQ_INT(sim_run(&o, &r), TV_ERR_RANGE);
+    o.warmup_s = SIM_WARMUP_MAX_S + 1.0;
+    TV_CHECK_EQ_INT(sim_run(&o, &r), TV_ERR_RANGE);
+    o.warmup_s = 1.0;
+    o.scenario = SIM_SCN_STUCK_RELEASE;
+    TV_CHECK_EQ_INT(sim_run(&o, &r), TV_ERR_RANGE);
+    o.scenario = SIM_SCN_STOP_LEARN;
+    TV_CHECK_EQ_INT(sim_run(&o, &r), TV_ERR_RANGE);
+}
+
+/* A warm-up runs the warm-up excitation first (6 V, 1 Hz: the plate moves), then the scenario
+ * from its own time 0, scored from SIM_TRANSIENT_S after the warm-up; the scenario part is the
+ * same closed-loop steps (the first target is held after the warm-up's end). */
+static void test_warmup_precedes_the_scenario_and_its_scoring(void)
+{
+    sim_options_t o;
+    sim_result_t r;
+    trace_t tr;
+    sim_options_default(&o);
+    o.scenario = SIM_SCN_CLOSED_STEPS;
+    o.duration_s = 0.45; /* the first target holds for 0.5 s */
+    o.warmup_s = 1.0;
+    memset(&tr, 0, sizeof tr);
+    o.row_fn = trace_row;
+    o.row_user = &tr;
+    TV_CHECK_EQ_INT(sim_run(&o, &r), TV_OK);
+    TV_CHECK_EQ_INT(r.n_ticks, 1450);
+    TV_CHECK_EQ_INT(r.n_scored, 250); /* scenario time >= 0.2 s */
+    TV_CHECK_EQ_INT(r.faults, 0);
+    /* warm-up: open loop (no target), the plate swept over more than 0.3 rad */
+    TV_CHECK(tr.phi_max_warm - tr.phi_min_warm > 0.3);
+    TV_CHECK_EQ_INT(tr.targets_warm, 0);
+    /* after it: the closed loop on the scenario's first target (0.2 rad), reached */
+    TV_CHECK_EQ_INT(tr.targets_after, 450);
+    TV_CHECK_NEAR(tr.last_target, 0.2, 1e-12);
+    TV_CHECK_NEAR(tr.last_phi, 0.2, 0.02);
 }
 
 static void test_chi2_quantile_matches_tables(void)
@@ -551,6 +621,7 @@ int main(void)
     TV_TEST_RUN(test_stuck_plate_stays_at_rest_with_the_bridge_off);
     TV_TEST_RUN(test_missing_samples_are_counted);
     TV_TEST_RUN(test_options_are_validated);
+    TV_TEST_RUN(test_warmup_precedes_the_scenario_and_its_scoring);
     TV_TEST_RUN(test_chi2_quantile_matches_tables);
     TV_TEST_RUN(test_monte_carlo_aggregates_the_runs);
     return tv_test_summary();
