@@ -47,6 +47,7 @@ void app_config_default(app_config_t *cfg)
     ekf_config_default(&cfg->ekf, EKF_SETUP_CURRENT_ANGLE);
     nism_config_default(&cfg->nism);
     sl_config_default(&cfg->stop_learn);
+    st_config_default(&cfg->stop_track);
     app_calib_default(&cfg->calib, &cfg->model);
     /* Tracks span 0.1..0.9 of full scale over the travel; a stop penetration of a few mrad
      * stays far inside 2..98 %. Outside it the track is open or shorted. */
@@ -151,10 +152,18 @@ int app_init(app_t *app, const app_config_t *cfg)
             return rc;
         }
     }
+    {
+        st_t probe;
+        rc = st_reset(&probe, &cfg->stop_track, cfg->model.phi_closed_rad, cfg->model.phi_open_rad);
+        if (rc != TV_OK) {
+            return rc;
+        }
+    }
     memset(app, 0, sizeof *app);
     app->cfg = *cfg;
     app->ekf = ekf;
     (void)nism_init(&app->nism, &cfg->nism); /* validated above */
+    (void)st_reset(&app->st, &cfg->stop_track, cfg->model.phi_closed_rad, cfg->model.phi_open_rad); /* likewise */
     if (cfg->control.mode == APP_MODE_STOP_LEARN) {
         (void)sl_start(&app->sl, &cfg->stop_learn, &cfg->model); /* validated above */
     }
@@ -219,6 +228,8 @@ int app_set_stops(app_t *app, tv_real_t phi_closed_rad, tv_real_t phi_open_rad)
     if (rc == TV_OK) {
         app->cfg.model.phi_closed_rad = phi_closed_rad;
         app->cfg.model.phi_open_rad = phi_open_rad;
+        /* the new stops are the tracker's reference (its window is around them) */
+        (void)st_reset(&app->st, &app->cfg.stop_track, phi_closed_rad, phi_open_rad);
     }
     return rc;
 }
@@ -531,6 +542,17 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         }
     }
     out->consistency = app->nism.flags;
+    /* Online stop tracking (stop_track.h), in service: not while the start-up routine runs, which
+     * owns the stops then. A moved onset goes to the estimator; the tracker keeps its reference. */
+    if (app->cfg.control.mode != APP_MODE_STOP_LEARN && out->ekf_status == TV_OK && periods > 0u) {
+        tv_real_t xs[TVM_NX];
+        ekf_state(&app->ekf, xs);
+        if (st_step(&app->st, &app->ekf.model.p, angle, angle_ok, xs[TVM_I], xs[TVM_W]) &&
+            ekf_set_stops(&app->ekf, app->st.onset[ST_CLOSED], app->st.onset[ST_OPEN]) == TV_OK) {
+            app->cfg.model.phi_closed_rad = app->st.onset[ST_CLOSED];
+            app->cfg.model.phi_open_rad = app->st.onset[ST_OPEN];
+        }
+    }
     if (angle_ok && periods > 0u) {
         app->last_angle_rad = angle;
         app->last_angle_t_us = in->t_us;
@@ -583,6 +605,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         ekf_friction_error(&app->ekf, &f, &out->friction_rel_sigma);
         out->friction_rel = TV_R(1.0) + f;
     }
+    ekf_stops(&app->ekf, &out->stop_closed_rad, &out->stop_open_rad);
     out->faults = app->faults;
     ++app->n_steps;
 }

@@ -21,6 +21,7 @@
 #include "ekf.h"
 #include "nis_monitor.h"
 #include "stop_learn.h"
+#include "stop_track.h"
 #include "tv_model.h"
 #include "tv_real.h"
 
@@ -125,6 +126,7 @@ typedef struct {
     ekf_config_t ekf;     /**< estimator configuration (set-up, Q, R, ...) */
     nism_config_t nism;   /**< consistency monitor (nis_monitor.h) */
     sl_config_t stop_learn; /**< start-up stop learning (APP_MODE_STOP_LEARN, stop_learn.h) */
+    st_config_t stop_track; /**< online stop tracking in service (stop_track.h) */
     app_calib_t calib;
     app_limits_t limits;
     app_control_t control;
@@ -156,6 +158,8 @@ typedef struct {
     tv_real_t r_sigma_ohm; /**< its standard deviation [ohm]; 0 when the filter has no resistance-error state */
     tv_real_t friction_rel;       /**< the filter's friction level relative to its model's, 1 + f (ekf_friction_error()) [-] */
     tv_real_t friction_rel_sigma; /**< its standard deviation [-]; 0 when the filter has no friction-error state */
+    tv_real_t stop_closed_rad;    /**< the estimator's closed-stop contact onset in use (learned, then tracked) [rad] */
+    tv_real_t stop_open_rad;      /**< its open-stop contact onset in use [rad] */
     ekf_innov_t innov;     /**< innovations, their variances, NIS */
     int ekf_status;        /**< status of this step's correction (0 ok) */
     uint32_t faults;       /**< latched APP_FAULT_* mask */
@@ -202,6 +206,7 @@ typedef struct {
     uint32_t n_estimator_resets; /**< times app_clear_faults() restarted the estimator */
     nism_t nism;              /**< consistency monitor on the estimator's innovations */
     sl_t sl;                  /**< stop-learning routine (APP_MODE_STOP_LEARN) and its last result */
+    st_t st;                  /**< online stop tracking (stop_track.h): the estimator's stops follow the unit */
 } app_t;
 
 /**

@@ -126,6 +126,10 @@ int sim_result_print(FILE *f, const sim_result_t *r)
     fprintf(f, "friction level at the end: %.4g +- %.3g of the filter model's (1 + f, ekf_friction_error()), plant's "
                "Coulomb friction %.4g of it\n",
             r->friction_rel, r->friction_rel_sigma, r->friction_rel_true);
+    fprintf(f, "stop onsets at the end: closed %.5f rad, open %.5f rad (online tracking, stop_track.h: %lu rest blocks "
+               "accepted, %lu refused)\n",
+            r->stop_onset_rad[0], r->stop_onset_rad[1], (unsigned long)r->stop_track_accepted,
+            (unsigned long)r->stop_track_refused);
     if (r->stop_learn_phase != (int)SL_IDLE) {
         fprintf(f, "stop learning (APP_MODE_STOP_LEARN): %s%s%s after %.3f s; closed %.5f rad, open %.5f rad; "
                    "largest speed near a stop %.3g rad/s\n",
@@ -215,7 +219,12 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     sim_jnum(f, r->friction_rel_sigma);
     fputs(", \"plant_coulomb_rel\": ", f);
     sim_jnum(f, r->friction_rel_true);
-    fputs("},\n", f);
+    fputs("},\n  \"stop_tracking\": {\"closed_rad\": ", f);
+    sim_jnum(f, r->stop_onset_rad[0]);
+    fputs(", \"open_rad\": ", f);
+    sim_jnum(f, r->stop_onset_rad[1]);
+    fprintf(f, ", \"accepted\": %lu, \"refused\": %lu},\n", (unsigned long)r->stop_track_accepted,
+            (unsigned long)r->stop_track_refused);
     if (r->tracking.n > 0u) {
         fprintf(f, "  \"tracking\": {\"steps\": %lu, \"worst_overshoot_pct\": ", (unsigned long)r->tracking.n_steps);
         sim_jnum(f, r->tracking.worst_overshoot_pct);

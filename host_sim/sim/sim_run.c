@@ -520,6 +520,10 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->friction_rel_sigma = (double)sf;
         res->friction_rel_true = app->ekf.model.p.Mc_Nm > TV_R(0.0) ? pcfg.Mc_Nm / (double)app->ekf.model.p.Mc_Nm : 1.0;
     }
+    res->stop_onset_rad[0] = (double)app->ekf.model.p.phi_closed_rad;
+    res->stop_onset_rad[1] = (double)app->ekf.model.p.phi_open_rad;
+    res->stop_track_accepted = app->st.n_accepted;
+    res->stop_track_refused = app->st.n_refused;
     res->stop_learn_phase = (int)app->sl.phase;
     res->stop_learn_error = (int)app->sl.error;
     if (app->sl.phase == SL_DONE) {
