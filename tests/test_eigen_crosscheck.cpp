@@ -642,8 +642,9 @@ void test_filter_current_angle_matches_reference()
     cc.contact_nis_gate = TV_R(0.0);
     cc.qc_Nm2_s = TV_R(0.0);
     cc.qr_ohm2_s = TV_R(0.0);
-    TV_CHECK(cc.qf_1_s > TV_R(0.0));
+    TV_CHECK(cc.qf_1_s > TV_R(0.0) && cc.qm_1_s > TV_R(0.0));
     cc.qf_1_s = TV_R(0.0);
+    cc.qm_1_s = TV_R(0.0);
     run_filter_case("current+angle", cc, tvref::config_default(p, tvref::Setup::CurrentAngle));
 }
 

@@ -64,16 +64,16 @@ static void correct_noisy(ekf_t *f, const double xt[3])
 }
 
 /*
- * The augmented states (contact torque d, resistance error dR, friction error f): (1) one
- * predict, one current and one angle update of the augmented filter against the same steps
- * written out on the full 6x6 matrices (F5 = [[F, G], [0, B]], P5 = F5 P5 F5^T + Q5; K = P5 H^T / s, P5 = (I - K H) P5
+ * The augmented states (contact torque d, resistance error dR, friction error f, preload error
+ * m): (1) one predict, one current and one angle update of the augmented filter against the same
+ * steps written out on the full 7x7 matrices (F5 = [[F, G], [0, B]], P5 = F5 P5 F5^T + Q5; K = P5 H^T / s, P5 = (I - K H) P5
  * (I - K H)^T + r K K^T) from a random SPD P5; (2) on a truth that has a constant extra torque of
  * 0.3 N m, the filter's d converges to it
  * within 3 sigma and the velocity error stays small.
  */
 static void test_contact_torque_state(void)
 {
-    enum { N = 6 }; /* x (3) + d + dR + f */
+    enum { N = 7 }; /* x (3) + d + dR + f + m */
     tvm_params_t p;
     ekf_config_t cfg;
     ekf_t f;
@@ -90,11 +90,16 @@ static void test_contact_torque_state(void)
     cfg.d_tau_s = 0.02;
     cfg.qr_ohm2_s = 0.3;
     cfg.qf_1_s = 0.2;
+    cfg.qm_1_s = 0.1;
+    /* the bounds' variance ceilings (bound^2) above the random P5's variances (checked below) */
+    cfg.f_abs_max = 0.99;
+    cfg.m_abs_max = 0.99;
     TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
     TV_CHECK_EQ_INT(f.aug_on, 1);
     TV_CHECK_NEAR(f.Paa[TVM_A_DR][TVM_A_DR], cfg.r_sigma0_ohm * cfg.r_sigma0_ohm, 1e-15);
     TV_CHECK_NEAR(f.Paa[TVM_A_FRIC][TVM_A_FRIC], cfg.f_sigma0 * cfg.f_sigma0, 1e-15);
-    /* a random SPD 6x6: A A^T + 0.1 I */
+    TV_CHECK_NEAR(f.Paa[TVM_A_PRELOAD][TVM_A_PRELOAD], cfg.m_sigma0 * cfg.m_sigma0, 1e-15);
+    /* a random SPD 7x7: A A^T + 0.1 I */
     for (a = 0; a < N; ++a) {
         for (b = 0; b < N; ++b) {
             A[a][b] = urand() - 0.5;
@@ -115,6 +120,7 @@ static void test_contact_torque_state(void)
         f.Pxa[a][TVM_A_TORQUE] = P5[a][3];
         f.Pxa[a][TVM_A_DR] = P5[a][4];
         f.Pxa[a][TVM_A_FRIC] = P5[a][5];
+        f.Pxa[a][TVM_A_PRELOAD] = P5[a][6];
     }
     for (a = 0; a < TVM_NA; ++a) {
         for (b = 0; b < TVM_NA; ++b) {
@@ -127,6 +133,7 @@ static void test_contact_torque_state(void)
     f.aug[TVM_A_TORQUE] = 0.2;
     f.aug[TVM_A_DR] = -0.4;
     f.aug[TVM_A_FRIC] = 0.1;
+    f.aug[TVM_A_PRELOAD] = -0.15;
     {
         double F[3][3];
         double G[3][TVM_NA];
@@ -142,10 +149,12 @@ static void test_contact_torque_state(void)
             F5[a][3] = G[a][TVM_A_TORQUE];
             F5[a][4] = G[a][TVM_A_DR];
             F5[a][5] = G[a][TVM_A_FRIC];
+            F5[a][6] = G[a][TVM_A_PRELOAD];
         }
         F5[3][3] = beta;
         F5[4][4] = 1.0;
         F5[5][5] = 1.0;
+        F5[6][6] = 1.0;
         for (a = 0; a < N; ++a) {
             for (b = 0; b < N; ++b) {
                 T5[a][b] = 0.0;
@@ -165,6 +174,8 @@ static void test_contact_torque_state(void)
         Pn[3][3] += 0.5 * 1e-3;
         Pn[4][4] += 0.3 * 1e-3;
         Pn[5][5] += 0.2 * 1e-3;
+        Pn[6][6] += 0.1 * 1e-3;
+        TV_CHECK(Pn[5][5] < 0.99 * 0.99 && Pn[6][6] < 0.99 * 0.99); /* no ceiling engages */
         TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
         for (a = 0; a < 3; ++a) {
             TV_CHECK_NEAR(f.x[a], xn[a], 1e-12 * (1.0 + fabs(xn[a])));
@@ -174,6 +185,7 @@ static void test_contact_torque_state(void)
             TV_CHECK_NEAR(f.Pxa[a][TVM_A_TORQUE], Pn[a][3], 1e-9 * (1.0 + fabs(Pn[a][3])));
             TV_CHECK_NEAR(f.Pxa[a][TVM_A_DR], Pn[a][4], 1e-9 * (1.0 + fabs(Pn[a][4])));
             TV_CHECK_NEAR(f.Pxa[a][TVM_A_FRIC], Pn[a][5], 1e-9 * (1.0 + fabs(Pn[a][5])));
+            TV_CHECK_NEAR(f.Pxa[a][TVM_A_PRELOAD], Pn[a][6], 1e-9 * (1.0 + fabs(Pn[a][6])));
         }
         for (a = 0; a < TVM_NA; ++a) {
             for (b = 0; b < TVM_NA; ++b) {
@@ -183,8 +195,9 @@ static void test_contact_torque_state(void)
         TV_CHECK_NEAR(f.aug[TVM_A_TORQUE], 0.2 * beta, 1e-15);
         TV_CHECK_NEAR(f.aug[TVM_A_DR], -0.4, 1e-15);
         TV_CHECK_NEAR(f.aug[TVM_A_FRIC], 0.1, 1e-15);
+        TV_CHECK_NEAR(f.aug[TVM_A_PRELOAD], -0.15, 1e-15);
         /* one current update (z = i + 0.02) and one angle update (z = phi + 0.01), each against
-         * the Joseph form on the full 6x6 written out */
+         * the Joseph form on the full 7x7 written out */
         {
             static const int chans[2] = {EKF_CH_CURRENT, EKF_CH_ANGLE};
             static const double ys[2] = {0.02, 0.01};
@@ -196,6 +209,7 @@ static void test_contact_torque_state(void)
             x5[3] = f.aug[TVM_A_TORQUE];
             x5[4] = f.aug[TVM_A_DR];
             x5[5] = f.aug[TVM_A_FRIC];
+            x5[6] = f.aug[TVM_A_PRELOAD];
             for (n = 0; n < 2; ++n) {
                 ekf_meas_t m;
                 const int j = chans[n] == EKF_CH_CURRENT ? 0 : 2;
@@ -242,6 +256,7 @@ static void test_contact_torque_state(void)
                     TV_CHECK_NEAR(f.Pxa[a][TVM_A_TORQUE], Pu[a][3], 1e-9 * (1.0 + fabs(Pu[a][3])));
                     TV_CHECK_NEAR(f.Pxa[a][TVM_A_DR], Pu[a][4], 1e-9 * (1.0 + fabs(Pu[a][4])));
                     TV_CHECK_NEAR(f.Pxa[a][TVM_A_FRIC], Pu[a][5], 1e-9 * (1.0 + fabs(Pu[a][5])));
+                    TV_CHECK_NEAR(f.Pxa[a][TVM_A_PRELOAD], Pu[a][6], 1e-9 * (1.0 + fabs(Pu[a][6])));
                 }
                 for (a = 0; a < TVM_NA; ++a) {
                     for (b = 0; b < TVM_NA; ++b) {
@@ -251,6 +266,7 @@ static void test_contact_torque_state(void)
                 TV_CHECK_NEAR(f.aug[TVM_A_TORQUE], x5[3], 1e-9);
                 TV_CHECK_NEAR(f.aug[TVM_A_DR], x5[4], 1e-9);
                 TV_CHECK_NEAR(f.aug[TVM_A_FRIC], x5[5], 1e-9);
+                TV_CHECK_NEAR(f.aug[TVM_A_PRELOAD], x5[6], 1e-9);
                 memcpy(Pn, Pu, sizeof Pn);
             }
         }
@@ -265,6 +281,9 @@ static void test_contact_torque_state(void)
         ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
         cfg.qd_free_Nm2_s = 1e-3;
         cfg.d_tau_s = 10.0;
+        /* the preload state would take up part of a constant torque (on this side of limp-home the
+         * two look alike): off, so that d is what is tested */
+        cfg.qm_1_s = 0.0;
         cfg.x0[2] = 0.3;
         TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
         for (k = 0; k < 4000; ++k) {
@@ -453,6 +472,49 @@ static void test_friction_error_state(void)
     TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
     ekf_friction_error(&f, &fe, &sf);
     TV_CHECK(fe == 0.0 && sf == 0.0);
+}
+/*
+ * The relative preload error m (ekf_config_t::qm_1_s): on a truth whose limp-home preload is
+ * 0.8 x the model's (the truth is the model with that parameter), m converges to -0.2 within 3
+ * sigma and 1.5 % of the preload, and stays inside its bound; a bound of 1 is refused.
+ */
+static void test_preload_error_state(void)
+{
+    tvm_params_t p;
+    tvm_params_t pt;
+    tvm_t truth;
+    ekf_config_t cfg;
+    ekf_t f;
+    double xt[3] = {0.0, 0.0, 0.0};
+    double me = 0.0;
+    double sm = 0.0;
+    long k;
+    tvm_params_default(&p);
+    pt = p;
+    pt.M0_Nm = 0.8 * p.M0_Nm;
+    TV_CHECK_EQ_INT(tvm_init(&truth, &pt), TV_OK);
+    ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
+    TV_CHECK(cfg.qm_1_s > 0.0);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    for (k = 0; k < 5000; ++k) {
+        const double u = 5.0 * sin(2.0 * PI_D * 1.0 * (double)k * 1e-3) + 1.0;
+        tvm_step(&truth, xt, u, xt, NULL);
+        TV_CHECK_EQ_INT(ekf_predict(&f, u), TV_OK);
+        correct_noisy(&f, xt);
+        TV_CHECK(f.aug[TVM_A_PRELOAD] <= cfg.m_abs_max && f.aug[TVM_A_PRELOAD] >= -cfg.m_abs_max);
+    }
+    ekf_preload_error(&f, &me, &sm);
+    printf("  preload error: true -0.2, estimate %.4f +- %.4f\n", me, sm);
+    TV_CHECK(sm > 0.0 && sm < 0.05);
+    TV_CHECK_NEAR(me, -0.2, 3.0 * sm);
+    TV_CHECK_NEAR(me, -0.2, 0.015);
+    cfg.m_abs_max = 1.0;
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
+    cfg.m_abs_max = 0.8;
+    cfg.qm_1_s = 0.0; /* no such state */
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    ekf_preload_error(&f, &me, &sm);
+    TV_CHECK(me == 0.0 && sm == 0.0);
 }
 #endif
 
@@ -1084,6 +1146,7 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_contact_torque_state);
     TV_TEST_RUN(test_resistance_error_state);
     TV_TEST_RUN(test_friction_error_state);
+    TV_TEST_RUN(test_preload_error_state);
 #endif
     TV_TEST_RUN(test_contact_inflation);
     TV_TEST_RUN(test_converges_from_a_wrong_initial_state);

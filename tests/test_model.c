@@ -267,6 +267,7 @@ static void test_disturbance_column(void)
         a[TVM_A_TORQUE] = zero ? 0.0 : uniform(-2.0, 2.0);
         a[TVM_A_DR] = zero ? 0.0 : uniform(-1.5, 1.5);
         a[TVM_A_FRIC] = zero ? 0.0 : uniform(-0.6, 0.6);
+        a[TVM_A_PRELOAD] = zero ? 0.0 : uniform(-0.6, 0.6);
         x[0] = uniform(-3.0, 3.0);
         x[1] = uniform(-40.0, 40.0);
         x[2] = uniform(m.p.phi_closed_rad - 0.005, m.p.phi_open_rad + 0.005);
@@ -277,7 +278,7 @@ static void test_disturbance_column(void)
                 TV_CHECK(memcmp(&fref[r], &f0[r], sizeof fref[r]) == 0);
             }
         }
-        if (a[TVM_A_DR] == 0.0 && a[TVM_A_FRIC] == 0.0) {
+        if (a[TVM_A_DR] == 0.0 && a[TVM_A_FRIC] == 0.0 && a[TVM_A_PRELOAD] == 0.0) {
             tvm_step_dist(&m, x, a[TVM_A_TORQUE], u, fd0, F, Gd);
             for (r = 0; r < 3; ++r) {
                 TV_CHECK(memcmp(&fd0[r], &f0[r], sizeof fd0[r]) == 0);
@@ -317,7 +318,7 @@ static void test_disturbance_column(void)
         double x0[3] = {0.0, 0.0, 0.3};
         double xa[3];
         double xe[3];
-        const double a[TVM_NA] = {0.0, 0.8, 0.0};
+        const double a[TVM_NA] = {0.0, 0.8, 0.0, 0.0};
         tvm_params_default(&p);
         p.Kt_Nm_A = 0.0;
         TV_CHECK_EQ_INT(tvm_init(&m0, &p), TV_OK);
@@ -336,7 +337,7 @@ static void test_disturbance_column(void)
         tvm_t m0;
         tvm_t m1;
         const double f = 0.5;
-        const double a[TVM_NA] = {0.0, 0.0, f};
+        const double a[TVM_NA] = {0.0, 0.0, f, 0.0};
         double worst = 0.0;
         int j;
         tvm_params_default(&p);
@@ -361,6 +362,38 @@ static void test_disturbance_column(void)
             }
         }
         printf("  friction error f = 0.5 vs a model with 1.5 x Mc, Ms: worst relative difference %.2g\n", worst);
+        TV_CHECK(worst <= 1e-12);
+    }
+    /* the preload error against a model whose preload is (1 + m) times the nominal */
+    {
+        tvm_params_t p;
+        tvm_t m0;
+        tvm_t m1;
+        const double mp = -0.3;
+        const double a[TVM_NA] = {0.0, 0.0, 0.0, mp};
+        double worst = 0.0;
+        int j;
+        tvm_params_default(&p);
+        TV_CHECK_EQ_INT(tvm_init(&m0, &p), TV_OK);
+        p.M0_Nm *= 1.0 + mp;
+        TV_CHECK_EQ_INT(tvm_init(&m1, &p), TV_OK);
+        for (j = 0; j < 200; ++j) {
+            double x[3];
+            double xa[3];
+            double xe[3];
+            int r;
+            const double u = uniform(-12.0, 12.0);
+            x[0] = uniform(-2.0, 2.0);
+            x[1] = j % 5 == 0 ? 0.0 : uniform(-20.0, 20.0);
+            x[2] = uniform(-0.05, 1.2);
+            tvm_step_aug(&m0, x, a, u, xa, NULL, NULL, TVM_G_ALL);
+            tvm_step(&m1, x, u, xe, NULL);
+            for (r = 0; r < 3; ++r) {
+                const double e = fabs(xa[r] - xe[r]) / (1.0 + fabs(xe[r]));
+                worst = e > worst ? e : worst;
+            }
+        }
+        printf("  preload error m = -0.3 vs a model with 0.7 x M0: worst relative difference %.2g\n", worst);
         TV_CHECK(worst <= 1e-12);
     }
 }

@@ -165,7 +165,7 @@ def main():
     out, _ = expect([exe("replay"), "--r-angle", "1e-6", "--qu", "1e-4", path("raw.csv")], 0)
     check(body(out) != outs["csv"], "--r-angle / --qu change the estimates")
     out, _ = expect([exe("replay"), "--setup", "3", "--wide", path("raw.csv")], 0)
-    check(body(out)[0].endswith("innov_phi_sigma_rad,R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma,i_true_A,w_true_rad_s,phi_true_rad"),
+    check(body(out)[0].endswith("innov_phi_sigma_rad,R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma,preload_rel,preload_rel_sigma,i_true_A,w_true_rad_s,phi_true_rad"),
           "--wide columns")
     check(body(out)[2].split(",")[10] != "", "set-up 3 uses the velocity channel")
     # the winding-resistance estimate: the nominal plant's R (4.3 ohm, plant.h) within 3 sigma at the

@@ -605,6 +605,11 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         ekf_friction_error(&app->ekf, &f, &out->friction_rel_sigma);
         out->friction_rel = TV_R(1.0) + f;
     }
+    {
+        tv_real_t mp;
+        ekf_preload_error(&app->ekf, &mp, &out->preload_rel_sigma);
+        out->preload_rel = TV_R(1.0) + mp;
+    }
     ekf_stops(&app->ekf, &out->stop_closed_rad, &out->stop_open_rad);
     out->faults = app->faults;
     ++app->n_steps;

@@ -158,6 +158,8 @@ typedef struct {
     tv_real_t r_sigma_ohm; /**< its standard deviation [ohm]; 0 when the filter has no resistance-error state */
     tv_real_t friction_rel;       /**< the filter's friction level relative to its model's, 1 + f (ekf_friction_error()) [-] */
     tv_real_t friction_rel_sigma; /**< its standard deviation [-]; 0 when the filter has no friction-error state */
+    tv_real_t preload_rel;        /**< the filter's spring preload relative to its model's, 1 + m (ekf_preload_error()) [-] */
+    tv_real_t preload_rel_sigma;  /**< its standard deviation [-]; 0 when the filter has no preload-error state */
     tv_real_t stop_closed_rad;    /**< the estimator's closed-stop contact onset in use (learned, then tracked) [rad] */
     tv_real_t stop_open_rad;      /**< its open-stop contact onset in use [rad] */
     ekf_innov_t innov;     /**< innovations, their variances, NIS */

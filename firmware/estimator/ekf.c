@@ -19,6 +19,11 @@ typedef tv_real_t mat3_t[TVM_NX][TVM_NX];
 #define TV_UNROLL3
 #endif
 #if defined(__GNUC__)
+#define TV_UNROLL_NA _Pragma("GCC unroll 4")
+#else
+#define TV_UNROLL_NA
+#endif
+#if defined(__GNUC__)
 #define TV_UNROLL2 _Pragma("GCC unroll 2")
 #else
 #define TV_UNROLL2
@@ -164,6 +169,9 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->f_sigma0 = EKF_DEFAULT_F_SIGMA0;
     cfg->f_abs_max = EKF_DEFAULT_F_ABS_MAX;
     cfg->f_excite_rad_s = EKF_DEFAULT_F_EXCITE_RAD_S;
+    cfg->qm_1_s = EKF_DEFAULT_QM_1_S;
+    cfg->m_sigma0 = EKF_DEFAULT_M_SIGMA0;
+    cfg->m_abs_max = EKF_DEFAULT_M_ABS_MAX;
     cfg->contact_nis_gate = EKF_DEFAULT_CONTACT_NIS_GATE;
 }
 
@@ -192,6 +200,7 @@ void ekf_config_paper(ekf_config_t *cfg)
     cfg->qd_free_Nm2_s = TV_R(0.0);
     cfg->qr_ohm2_s = TV_R(0.0);
     cfg->qf_1_s = TV_R(0.0);
+    cfg->qm_1_s = TV_R(0.0);
     cfg->contact_nis_gate = TV_R(0.0);
 }
 
@@ -245,7 +254,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->contact_nis_gate) || !TV_IS_FINITE(cfg->qr_ohm2_s) ||
         !TV_IS_FINITE(cfg->r_sigma0_ohm) || !TV_IS_FINITE(cfg->dr_abs_max_ohm) ||
         !TV_IS_FINITE(cfg->dr_excite_A) || !TV_IS_FINITE(cfg->qf_1_s) || !TV_IS_FINITE(cfg->f_sigma0) ||
-        !TV_IS_FINITE(cfg->f_abs_max) || !TV_IS_FINITE(cfg->f_excite_rad_s)) {
+        !TV_IS_FINITE(cfg->f_abs_max) || !TV_IS_FINITE(cfg->f_excite_rad_s) || !TV_IS_FINITE(cfg->qm_1_s) ||
+        !TV_IS_FINITE(cfg->m_sigma0) || !TV_IS_FINITE(cfg->m_abs_max)) {
         return TV_ERR_NONFINITE;
     }
     if (cfg->setup != EKF_SETUP_CURRENT_ANGLE && cfg->setup != EKF_SETUP_PAPER_3MEAS) {
@@ -269,7 +279,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !(cfg->d_var_ceil > TV_R(0.0)) || cfg->contact_nis_gate < TV_R(0.0) || cfg->qr_ohm2_s < TV_R(0.0) ||
         cfg->r_sigma0_ohm < TV_R(0.0) || !(cfg->dr_abs_max_ohm > TV_R(0.0)) ||
         cfg->dr_excite_A < TV_R(0.0) || cfg->qf_1_s < TV_R(0.0) || cfg->f_sigma0 < TV_R(0.0) ||
-        !(cfg->f_abs_max > TV_R(0.0) && cfg->f_abs_max < TV_R(1.0)) || cfg->f_excite_rad_s < TV_R(0.0)) {
+        !(cfg->f_abs_max > TV_R(0.0) && cfg->f_abs_max < TV_R(1.0)) || cfg->f_excite_rad_s < TV_R(0.0) ||
+        cfg->qm_1_s < TV_R(0.0) || cfg->m_sigma0 < TV_R(0.0) || !(cfg->m_abs_max > TV_R(0.0) && cfg->m_abs_max < TV_R(1.0))) {
         return TV_ERR_CONFIG;
     }
     /* the explicit resistance error must leave the current's decay per sub-step in (0, 1):
@@ -300,15 +311,19 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     /* the contact noise: a torque noise of density qc on the plate, nothing on the armature */
     (void)ekf_q_from_spectral(params, TV_R(0.0), cfg->qc_Nm2_s, ekf->Qc);
     ekf->aug_on = cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0) || cfg->qr_ohm2_s > TV_R(0.0) ||
-                  cfg->qf_1_s > TV_R(0.0);
+                  cfg->qf_1_s > TV_R(0.0) || cfg->qm_1_s > TV_R(0.0);
     ekf->g_cols = ((cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0)) ? 1u << TVM_A_TORQUE : 0u) |
-                  (cfg->qr_ohm2_s > TV_R(0.0) ? 1u << TVM_A_DR : 0u) | (cfg->qf_1_s > TV_R(0.0) ? 1u << TVM_A_FRIC : 0u);
+                  (cfg->qr_ohm2_s > TV_R(0.0) ? 1u << TVM_A_DR : 0u) | (cfg->qf_1_s > TV_R(0.0) ? 1u << TVM_A_FRIC : 0u) |
+                  (cfg->qm_1_s > TV_R(0.0) ? 1u << TVM_A_PRELOAD : 0u);
     ekf->d_beta = TV_EXP(-params->Ts_s / cfg->d_tau_s);
     if (cfg->qr_ohm2_s > TV_R(0.0)) {
         ekf->Paa[TVM_A_DR][TVM_A_DR] = cfg->r_sigma0_ohm * cfg->r_sigma0_ohm;
     }
     if (cfg->qf_1_s > TV_R(0.0)) {
         ekf->Paa[TVM_A_FRIC][TVM_A_FRIC] = cfg->f_sigma0 * cfg->f_sigma0;
+    }
+    if (cfg->qm_1_s > TV_R(0.0)) {
+        ekf->Paa[TVM_A_PRELOAD][TVM_A_PRELOAD] = cfg->m_sigma0 * cfg->m_sigma0;
     }
     return TV_OK;
 }
@@ -362,9 +377,9 @@ static int aug_sane(const tv_real_t *P, const aug_part_t *ap)
 static void bound_aug(aug_part_t *ap, const ekf_config_t *cfg)
 {
     const tv_real_t ceil_[TVM_NA] = {cfg->d_var_ceil, cfg->dr_abs_max_ohm * cfg->dr_abs_max_ohm,
-                                     cfg->f_abs_max * cfg->f_abs_max};
+                                     cfg->f_abs_max * cfg->f_abs_max, cfg->m_abs_max * cfg->m_abs_max};
     /* the contact torque has no bound on its value (0: none), only on its variance */
-    const tv_real_t bound[TVM_NA] = {TV_R(0.0), cfg->dr_abs_max_ohm, cfg->f_abs_max};
+    const tv_real_t bound[TVM_NA] = {TV_R(0.0), cfg->dr_abs_max_ohm, cfg->f_abs_max, cfg->m_abs_max};
     int q;
     int r;
     for (q = 0; q < TVM_NA; ++q) {
@@ -423,9 +438,9 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
     mat3_t Pn;
     /* the band may be on (covariance inflation) with no contact noise: nothing to add then */
     const int add_qc = contact && ekf->cfg.qc_Nm2_s > TV_R(0.0);
-    tv_real_t FPa[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0), TV_R(0.0)},
-                                     {TV_R(0.0), TV_R(0.0), TV_R(0.0)},
-                                     {TV_R(0.0), TV_R(0.0), TV_R(0.0)}};
+    tv_real_t FPa[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)},
+                                     {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)},
+                                     {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)}};
     aug_part_t ap;
     int a;
     int b;
@@ -440,22 +455,23 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
     memset(&ap, 0, sizeof ap);
     ap.on = ekf->g_cols;
     if (ekf->aug_on) {
-        const tv_real_t beta[TVM_NA] = {contact ? TV_R(1.0) : ekf->d_beta, TV_R(1.0), TV_R(1.0)};
+        const tv_real_t beta[TVM_NA] = {contact ? TV_R(1.0) : ekf->d_beta, TV_R(1.0), TV_R(1.0), TV_R(1.0)};
         const tv_real_t qa[TVM_NA] = {
             (contact ? ekf->cfg.qd_contact_Nm2_s : ekf->cfg.qd_free_Nm2_s) * ekf->model.p.Ts_s,
-            ekf->cfg.qr_ohm2_s * ekf->model.p.Ts_s, ekf->cfg.qf_1_s * ekf->model.p.Ts_s};
+            ekf->cfg.qr_ohm2_s * ekf->model.p.Ts_s, ekf->cfg.qf_1_s * ekf->model.p.Ts_s,
+            ekf->cfg.qm_1_s * ekf->model.p.Ts_s};
         const unsigned on = ap.on;
         int q;
         int r;
         TV_UNROLL3
         for (a = 0; a < TVM_NX; ++a) {
-            TV_UNROLL3
+            TV_UNROLL_NA
             for (q = 0; q < TVM_NA; ++q) {
                 if ((on & (1u << q)) != 0u) {
                     FPa[a][q] = F[a][0] * ekf->Pxa[0][q] + F[a][1] * ekf->Pxa[1][q] + F[a][2] * ekf->Pxa[2][q];
                     if (G != NULL) {
                         const tv_real_t g = G[a][q];
-                        TV_UNROLL3
+                        TV_UNROLL_NA
                         for (r = 0; r < TVM_NA; ++r) {
                             if ((on & (1u << r)) != 0u) {
                                 FPa[a][q] += G[a][r] * ekf->Paa[r][q];
@@ -469,14 +485,14 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
                 }
             }
         }
-        TV_UNROLL3
+        TV_UNROLL_NA
         for (q = 0; q < TVM_NA; ++q) {
             if ((on & (1u << q)) != 0u) {
                 TV_UNROLL3
                 for (a = 0; a < TVM_NX; ++a) {
                     ap.Pxa[a][q] = FPa[a][q] * beta[q];
                 }
-                TV_UNROLL3
+                TV_UNROLL_NA
                 for (r = 0; r < TVM_NA; ++r) {
                     if ((on & (1u << r)) != 0u) {
                         ap.Paa[q][r] = beta[q] * beta[r] * ekf->Paa[q][r];
@@ -498,7 +514,7 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
             }
             if (ekf->aug_on && G != NULL) {
                 /* unused columns of FPa and G are 0: adding them is exact, and cheaper than a test */
-                Pn[a][b] += FPa[a][0] * G[b][0] + FPa[a][1] * G[b][1] + FPa[a][2] * G[b][2];
+                Pn[a][b] += FPa[a][0] * G[b][0] + FPa[a][1] * G[b][1] + FPa[a][2] * G[b][2] + FPa[a][3] * G[b][3];
             }
             Pn[b][a] = Pn[a][b];
         }
@@ -609,13 +625,13 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, aug_part_t *ap, unsigned
          *   Pxa_aq <- A_aq - A_aj Kq + r K_a Kq,  Paa_qr <- A_qr - A_qj Kr + r Kq Kr
          * The Joseph form holds for any gain: a frozen state (bit q of frozen) gets gain 0
          * (Schmidt update). */
-        tv_real_t Ka[TVM_NA] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
-        tv_real_t A_qj[TVM_NA] = {TV_R(0.0), TV_R(0.0), TV_R(0.0)};
+        tv_real_t Ka[TVM_NA] = {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)};
+        tv_real_t A_qj[TVM_NA] = {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)};
         tv_real_t Pxa_j[TVM_NA]; /* the old row j of Pxa, read after Pxa is overwritten */
         tv_real_t A_aj[TVM_NX];
         int q;
         int rr;
-        TV_UNROLL3
+        TV_UNROLL_NA
         for (q = 0; q < TVM_NA; ++q) {
             Pxa_j[q] = ap->Pxa[j][q];
             if ((ap->on & (1u << q)) != 0u) {
@@ -629,10 +645,10 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, aug_part_t *ap, unsigned
         }
         /* Paa first (it reads the old row j of Pxa, saved above), then Pxa in place: each entry
          * reads only its own old value, row j's old values and A_aj; unused states keep 0 */
-        TV_UNROLL3
+        TV_UNROLL_NA
         for (q = 0; q < TVM_NA; ++q) {
             if ((ap->on & (1u << q)) != 0u) {
-                TV_UNROLL3
+                TV_UNROLL_NA
                 for (rr = q; rr < TVM_NA; ++rr) {
                     if ((ap->on & (1u << rr)) != 0u) {
                         const tv_real_t A_qr = ap->Paa[q][rr] - Ka[q] * Pxa_j[rr];
@@ -754,7 +770,7 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
      * error through the sliding plate: frozen while it (nearly) sticks, and in the contact band,
      * where the innovations are the contact law's errors, not friction's */
     frozen = (TV_FABS(x[TVM_I]) < ekf->cfg.dr_excite_A ? 1u << TVM_A_DR : 0u) |
-             (TV_FABS(x[TVM_W]) < ekf->cfg.f_excite_rad_s || ekf->in_contact ? 1u << TVM_A_FRIC : 0u);
+             (TV_FABS(x[TVM_W]) < ekf->cfg.f_excite_rad_s || ekf->in_contact ? (1u << TVM_A_FRIC) | (1u << TVM_A_PRELOAD) : 0u);
     for (ch = 0; ch < EKF_NCH; ++ch) {
         if (use[ch]) {
             /* the model's set-valued parts: a stop's contact, or a plate it predicts stuck (w
@@ -897,6 +913,12 @@ void ekf_friction_error(const ekf_t *ekf, tv_real_t *f, tv_real_t *sigma)
 {
     *f = ekf->aug[TVM_A_FRIC];
     *sigma = TV_SQRT(ekf->Paa[TVM_A_FRIC][TVM_A_FRIC]);
+}
+
+void ekf_preload_error(const ekf_t *ekf, tv_real_t *m, tv_real_t *sigma)
+{
+    *m = ekf->aug[TVM_A_PRELOAD];
+    *sigma = TV_SQRT(ekf->Paa[TVM_A_PRELOAD][TVM_A_PRELOAD]);
 }
 
 void ekf_health(const ekf_t *ekf, ekf_health_t *h)

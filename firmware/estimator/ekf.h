@@ -74,6 +74,14 @@ extern "C" {
 #define EKF_DEFAULT_F_ABS_MAX TV_R(0.8)
 #define EKF_DEFAULT_F_EXCITE_RAD_S TV_R(0.5)
 
+/** Default relative spring-preload error state (ekf_config_t::qm_1_s ...): density, initial
+ *  sigma, bound. Chosen on the training units (README "Preload adaptation"): sigma0 0.05 / 0.1 /
+ *  0.2 give stops_varied medians 5.87 / 5.05 / 4.49 (5.99 without the state) for all_varied
+ *  3.15 / 3.12 / 3.13 (2.73); a unit 20 % off is still learned within 1.5 % in 2-4 s. */
+#define EKF_DEFAULT_QM_1_S TV_R(1.0e-5)
+#define EKF_DEFAULT_M_SIGMA0 TV_R(0.05)
+#define EKF_DEFAULT_M_ABS_MAX TV_R(0.8)
+
 /** Default contact covariance-inflation gate (ekf_config_t::contact_nis_gate): 9 (a 3-sigma
  *  angle innovation). Chosen on the TRAINING units (population --first-unit 0, 30 units x 8
  *  scenarios, README "Stop contact"): against 0 (off), NEES run average max 186 -> 14, largest
@@ -166,6 +174,17 @@ typedef struct {
     tv_real_t f_abs_max;                /**< bound on |f| [-], in (0, 1) */
     tv_real_t f_excite_rad_s;           /**< f is updated only while |w estimate| is at least this [rad/s], >= 0 */
     /**
+     * Relative spring-preload error m (README "Preload adaptation"): a state [-] that scales the
+     * model's limp-home preload M0 (M0 (1 + m): a fatigued or broken return spring, a unit other
+     * than the model), a random walk of density qm_1_s [1/s] from 0 with standard deviation
+     * m_sigma0, held inside +-m_abs_max (< 1). Like the friction, the preload is seen only while
+     * the plate slides out of the contact band: frozen (Schmidt update) under the same rule
+     * (f_excite_rad_s). qm_1_s = 0: no such state. >= 0; m_sigma0 >= 0; 0 < m_abs_max < 1.
+     */
+    tv_real_t qm_1_s;
+    tv_real_t m_sigma0;                 /**< initial standard deviation of m [-], >= 0 */
+    tv_real_t m_abs_max;                /**< bound on |m| [-], in (0, 1) */
+    /**
      * Contact covariance inflation (README "Stop contact"): when the predicted angle is in the
      * contact band, or the model predicts the plate stuck (w exactly 0: the other set-valued part
      * of the model, where a wrong stiction lets the real plate creep) and the angle moved by no
@@ -195,7 +214,8 @@ typedef struct {
     int in_contact;                     /**< the last prediction ended in the contact band */
     uint32_t n_inflate;                 /**< corrections that inflated the covariance (contact_nis_gate) */
     /* the augmented states a = (contact torque d [N m], resistance error dR [ohm], relative
-     * friction error f [-]), index TVM_A_TORQUE / TVM_A_DR / TVM_A_FRIC (tv_model.h): estimate, covariance with x, covariance. A state that
+     * friction error f [-], relative preload error m [-]), index TVM_A_TORQUE / TVM_A_DR /
+     * TVM_A_FRIC / TVM_A_PRELOAD (tv_model.h): estimate, covariance with x, covariance. A state that
      * is off keeps a = 0 and zero (co)variances, so it changes nothing. */
     int aug_on;                         /**< 1 when any augmented state is in use (else the 3-state filter, exactly) */
     unsigned g_cols;                    /**< the augmented states in use (tvm_step_aug()'s g_cols: bit TVM_A_*) */
@@ -350,6 +370,12 @@ int ekf_set_contact_law(ekf_t *ekf, tv_real_t k_stop, tv_real_t exponent, tv_rea
  * its standard deviation; both 0 when the configuration has no such state.
  */
 void ekf_friction_error(const ekf_t *ekf, tv_real_t *f, tv_real_t *sigma);
+
+/**
+ * The relative spring-preload error estimate m [-] (the filter's preload is M0 (1 + m)) and its
+ * standard deviation; both 0 when the configuration has no such state.
+ */
+void ekf_preload_error(const ekf_t *ekf, tv_real_t *m, tv_real_t *sigma);
 
 /** The filter's health record (counters since ekf_init()). */
 void ekf_health(const ekf_t *ekf, ekf_health_t *h);

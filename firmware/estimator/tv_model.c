@@ -180,7 +180,7 @@ void tvm_step(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t u_V, tv_real_
 void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv_real_t u_V,
                    tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX])
 {
-    const tv_real_t a_in[TVM_NA] = {d_Nm, TV_R(0.0), TV_R(0.0)};
+    const tv_real_t a_in[TVM_NA] = {d_Nm, TV_R(0.0), TV_R(0.0), TV_R(0.0)};
     tv_real_t Gaug[TVM_NX][TVM_NA];
     tvm_step_aug(m, x, a_in, u_V, x_next, F, G != NULL ? Gaug : NULL, 1u << TVM_A_TORQUE);
     if (F != NULL && G != NULL) {
@@ -211,6 +211,8 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
     const tv_real_t dR = a_in[TVM_A_DR];
     /* friction level scale (1 + f) */
     const tv_real_t fs = TV_R(1.0) + a_in[TVM_A_FRIC];
+    /* spring preload (1 + m) M0 */
+    const tv_real_t M0 = p->M0_Nm * (TV_R(1.0) + a_in[TVM_A_PRELOAD]);
     /* current decay per sub-step with the resistance error taken explicitly */
     const tv_real_t a_i = m->a - m->b_A_V * dR;
     tv_real_t i = x[TVM_I];
@@ -220,9 +222,9 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                                     {TV_R(0.0), TV_R(1.0), TV_R(0.0)},
                                     {TV_R(0.0), TV_R(0.0), TV_R(1.0)}};
     /* d x / d a, accumulated through the sub-steps: Ga <- S Ga + (di1/da, dw1/da, h dw1/da) */
-    tv_real_t Ga[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0), TV_R(0.0)},
-                                    {TV_R(0.0), TV_R(0.0), TV_R(0.0)},
-                                    {TV_R(0.0), TV_R(0.0), TV_R(0.0)}};
+    tv_real_t Ga[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)},
+                                    {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)},
+                                    {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)}};
     int k;
 
     for (k = 0; k < p->substeps; ++k) {
@@ -233,7 +235,7 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
         const tv_real_t i1 = a_i * i + m->b_A_V * (u_V - m->nKe_V_s * w);
         const tv_real_t sp = preload_sign(phi, p->e_phi_rad, &dsp);
         const tv_real_t mstop = stop_torque(m, phi, w, &dMs_dphi, &dMs_dw);
-        const tv_real_t torque = m->nKt_Nm_A * i1 - p->M0_Nm * sp - p->c_Nm_rad * phi + mstop + d_Nm;
+        const tv_real_t torque = m->nKt_Nm_A * i1 - M0 * sp - p->c_Nm_rad * phi + mstop + d_Nm;
         const tv_real_t z = w + m->h_J * torque;
         const tv_real_t g_lvl = friction_level(m, w, &dg_dw);
         const tv_real_t D = m->h_J * g_lvl * fs;
@@ -257,7 +259,7 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                 /* w1 = kappa (z - sz D(w)) */
                 const tv_real_t dT_di = m->nKt_Nm_A * a_i;
                 const tv_real_t dT_dw = m->nKt_Nm_A * di1_dw + dMs_dw;
-                const tv_real_t dT_dphi = -p->M0_Nm * dsp - p->c_Nm_rad + dMs_dphi;
+                const tv_real_t dT_dphi = -M0 * dsp - p->c_Nm_rad + dMs_dphi;
                 s1[0] = m->kappa * (m->h_J * dT_di);
                 s1[1] = m->kappa * (TV_R(1.0) + m->h_J * dT_dw - sz * m->h_J * dg_dw * fs);
                 s1[2] = m->kappa * (m->h_J * dT_dphi);
@@ -284,6 +286,9 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                 }
                 if ((g_cols & (1u << TVM_A_FRIC)) != 0u) {
                     chain_g(Ga, TVM_A_FRIC, a_i, di1_dw, s1, m->h_s, TV_R(0.0), -sz * dw1_dT * g_lvl);
+                }
+                if ((g_cols & (1u << TVM_A_PRELOAD)) != 0u) {
+                    chain_g(Ga, TVM_A_PRELOAD, a_i, di1_dw, s1, m->h_s, TV_R(0.0), -dw1_dT * p->M0_Nm * sp);
                 }
             }
         }

@@ -154,19 +154,21 @@ void tvm_step_dist(const tvm_t *m, const tv_real_t x[TVM_NX], tv_real_t d_Nm, tv
                    tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX]);
 
 /** Augmented (disturbance) inputs of tvm_step_aug(): a torque on the plate, a winding-resistance
- *  error and a relative friction error. */
-enum { TVM_A_TORQUE = 0, TVM_A_DR = 1, TVM_A_FRIC = 2, TVM_NA = 3 };
+ *  error, a relative friction error and a relative spring-preload error. */
+enum { TVM_A_TORQUE = 0, TVM_A_DR = 1, TVM_A_FRIC = 2, TVM_A_PRELOAD = 3, TVM_NA = 4 };
 /** g_cols of tvm_step_aug(): every column of G. */
 #define TVM_G_ALL ((1u << TVM_NA) - 1u)
 
 /**
- * tvm_step() with the augmented inputs a = (d_Nm, dR_ohm, f) held over Ts: an extra torque d_Nm on
+ * tvm_step() with the augmented inputs a = (d_Nm, dR_ohm, f, m) held over Ts: an extra torque d_Nm on
  * the plate [N m] (positive = opening), an error dR_ohm of the winding resistance [ohm] (the
- * winding is R + dR) and a relative error f [-] of the friction level (Coulomb and static
- * friction both scaled: g(w) (1 + f); wear, contamination, ice, f > -1). The resistance error enters each sub-step explicitly, as the voltage -dR i at the
+ * winding is R + dR), a relative error f [-] of the friction level (Coulomb and static
+ * friction both scaled: g(w) (1 + f); wear, contamination, ice, f > -1) and a relative error m
+ * [-] of the spring preload (M0 (1 + m); a fatigued or broken return spring, m > -1). The resistance error enters each sub-step explicitly, as the voltage -dR i at the
  * sub-step's initial current: i1 = a i + b (u - n Ke w - dR i), stable while |b dR| < a (the EKF
- * bounds dR far inside that); the friction error scales D = (h / J) g(w) (1 + f). With a = 0 it is tvm_step() exactly. G, when F and G are both
- * given, receives dx_next/da (column TVM_A_TORQUE: d/dd_Nm, TVM_A_DR: d/ddR_ohm, TVM_A_FRIC: d/df), by the same
+ * bounds dR far inside that); the friction error scales D = (h / J) g(w) (1 + f), the preload error the preload torque. With a = 0 it is tvm_step() exactly. G, when F and G are both
+ * given, receives dx_next/da (column TVM_A_TORQUE: d/dd_Nm, TVM_A_DR: d/ddR_ohm, TVM_A_FRIC: d/df,
+ * TVM_A_PRELOAD: d/dm), by the same
  * chain rule through the sub-steps as F; G is ignored when F is NULL. g_cols selects the columns
  * computed (bit q: column q; TVM_G_ALL for all); the others are set to 0 (the EKF asks only for
  * the columns of the states it carries: each costs about 10 % of the map).

@@ -29,7 +29,7 @@ static const char s_columns[] =
     "innov_w_rad_s,innov_phi_rad,nis,nis_dof,faults,ekf_status,missing_samples";
 static const char s_wide_columns[] =
     ",i_meas_A,w_meas_rad_s,phi_meas_rad,supply_V,innov_i_sigma_A,innov_w_sigma_rad_s,innov_phi_sigma_rad,"
-    "R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma";
+    "R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma,preload_rel,preload_rel_sigma";
 static const char s_truth_columns[] = ",i_true_A,w_true_rad_s,phi_true_rad";
 
 void replay_options_default(replay_options_t *o)
@@ -258,6 +258,8 @@ static size_t format_line(char *line, const rawlog_record_t *rec, const app_outp
         n += put_g(line + n, (double)out->r_sigma_ohm);
         n += put_g(line + n, (double)out->friction_rel);
         n += put_g(line + n, (double)out->friction_rel_sigma);
+        n += put_g(line + n, (double)out->preload_rel);
+        n += put_g(line + n, (double)out->preload_rel_sigma);
     }
     if (truth) {
         for (a = 0; a < 3; ++a) {

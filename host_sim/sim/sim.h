@@ -219,6 +219,9 @@ typedef struct {
     double friction_rel;             /**< the filter's friction level relative to its model's, 1 + f, at the end [-] */
     double friction_rel_sigma;       /**< its standard deviation [-] (0: no friction-error state) */
     double friction_rel_true;        /**< the plant's Coulomb friction relative to the filter model's [-] */
+    double preload_rel;              /**< the filter's spring preload relative to its model's, 1 + m, at the end [-] */
+    double preload_rel_sigma;        /**< its standard deviation [-] (0: no preload-error state) */
+    double preload_rel_true;         /**< the plant's preload relative to the filter model's [-] */
     double stop_onset_rad[2];        /**< the estimator's stop onsets at the end (closed, open; tracked online, stop_track.h) [rad] */
     uint32_t stop_track_accepted;    /**< rest blocks that moved an onset */
     uint32_t stop_track_refused;     /**< rest blocks refused (outside the tracking window) */

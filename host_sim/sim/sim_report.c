@@ -126,6 +126,8 @@ int sim_result_print(FILE *f, const sim_result_t *r)
     fprintf(f, "friction level at the end: %.4g +- %.3g of the filter model's (1 + f, ekf_friction_error()), plant's "
                "Coulomb friction %.4g of it\n",
             r->friction_rel, r->friction_rel_sigma, r->friction_rel_true);
+    fprintf(f, "spring preload at the end: %.4g +- %.3g of the filter model's (1 + m, ekf_preload_error()), plant's %.4g of it\n",
+            r->preload_rel, r->preload_rel_sigma, r->preload_rel_true);
     fprintf(f, "stop onsets at the end: closed %.5f rad, open %.5f rad (online tracking, stop_track.h: %lu rest blocks "
                "accepted, %lu refused)\n",
             r->stop_onset_rad[0], r->stop_onset_rad[1], (unsigned long)r->stop_track_accepted,
@@ -219,6 +221,12 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     sim_jnum(f, r->friction_rel_sigma);
     fputs(", \"plant_coulomb_rel\": ", f);
     sim_jnum(f, r->friction_rel_true);
+    fputs("},\n  \"spring_preload\": {\"estimate_rel\": ", f);
+    sim_jnum(f, r->preload_rel);
+    fputs(", \"sigma_rel\": ", f);
+    sim_jnum(f, r->preload_rel_sigma);
+    fputs(", \"plant_rel\": ", f);
+    sim_jnum(f, r->preload_rel_true);
     fputs("},\n  \"stop_tracking\": {\"closed_rad\": ", f);
     sim_jnum(f, r->stop_onset_rad[0]);
     fputs(", \"open_rad\": ", f);

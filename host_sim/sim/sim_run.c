@@ -520,6 +520,14 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->friction_rel_sigma = (double)sf;
         res->friction_rel_true = app->ekf.model.p.Mc_Nm > TV_R(0.0) ? pcfg.Mc_Nm / (double)app->ekf.model.p.Mc_Nm : 1.0;
     }
+    {
+        tv_real_t mp;
+        tv_real_t sm;
+        ekf_preload_error(&app->ekf, &mp, &sm);
+        res->preload_rel = 1.0 + (double)mp;
+        res->preload_rel_sigma = (double)sm;
+        res->preload_rel_true = app->ekf.model.p.M0_Nm > TV_R(0.0) ? pcfg.M0_Nm / (double)app->ekf.model.p.M0_Nm : 1.0;
+    }
     res->stop_onset_rad[0] = (double)app->ekf.model.p.phi_closed_rad;
     res->stop_onset_rad[1] = (double)app->ekf.model.p.phi_open_rad;
     res->stop_track_accepted = app->st.n_accepted;
