@@ -508,7 +508,7 @@ static int fit_plate(const id_data_t *d, const id_sig_t *s, id_result_t *res)
     size_t r = 0;
     size_t npos = 0;
     size_t nneg = 0;
-    size_t nlow = 0;
+    size_t nlow = 0; /* rows slower than twice the Stribeck velocity found */
     double grid[ID_WS_GRID];
     double xbest = 0.0;
     int ibest = 0;
@@ -540,7 +540,7 @@ static int fit_plate(const id_data_t *d, const id_sig_t *s, id_result_t *res)
         m.use[r] = 1u;
         npos += s->w[k] > 0.0 ? 1u : 0u;
         nneg += s->w[k] < 0.0 ? 1u : 0u;
-        nlow += fabs(s->w[k]) < 1.0 ? 1u : 0u;
+        
         ++r;
     }
     m.n = r;
@@ -596,6 +596,9 @@ static int fit_plate(const id_data_t *d, const id_sig_t *s, id_result_t *res)
             gsl_min_fminimizer_free(mz);
         }
     }
+    for (k = 0; k < m.n; ++k) {
+        nlow += m.use[k] != 0u && fabs(m.w[k]) < 2.0 * exp(xbest) ? 1u : 0u;
+    }
     if (ws_ok) {
         /* profile curvature: var(ln ws) = 2 s^2 / SSR'' */
         const double h = 0.05;
@@ -620,14 +623,14 @@ static int fit_plate(const id_data_t *d, const id_sig_t *s, id_result_t *res)
         const double ms = m.f.c[MC_MC] + m.f.c[MC_DM];
         const double var = m.f.cov[MC_MC][MC_MC] + m.f.cov[MC_DM][MC_DM] + 2.0 * m.f.cov[MC_MC][MC_DM];
         const double sdm = sqrt(m.f.cov[MC_DM][MC_DM]);
-        if (!ws_ok || nlow < ID_MIN_SAMPLES) {
+        if (!ws_ok || nlow < ID_MIN_SAMPLES / 4u) {
             char why[ID_WHY_MAX];
             if (!ws_ok) {
                 (void)snprintf(why, sizeof why, "too little excitation: the Stribeck velocity runs to the search bound %g rad/s",
                                exp(xbest));
             } else {
-                (void)snprintf(why, sizeof why, "too little excitation: %lu samples slower than 1 rad/s (%u needed)",
-                               (unsigned long)nlow, ID_MIN_SAMPLES);
+                (void)snprintf(why, sizeof why, "too little excitation: %lu samples slower than 2 ws = %.3g rad/s (%u needed)",
+                               (unsigned long)nlow, 2.0 * exp(xbest), ID_MIN_SAMPLES / 4u);
             }
             mark(res, ID_P_MS, ms, sqrt(var), 0, why);
             mark(res, ID_P_WS, exp(xbest), NAN, 0, why);
