@@ -33,6 +33,12 @@
 #define ID_BLOCK_SPREAD_V 0.3
 /** A rest block is at a stop when within this of the travel's end [rad]. */
 #define ID_BLOCK_NEAR_RAD 0.02
+/** A rest block whose push is this much below its episode's largest was reached by unloading [N m]. */
+#define ID_UNLOAD_NM 0.05
+/** Friction factor grid of the rest blocks (x Mc). */
+#define ID_FRIC_LO 0.5
+#define ID_FRIC_HI 1.3
+#define ID_FRIC_GRID 9
 /** Smallest contact force of a rest block [N m]. */
 #define ID_BLOCK_F_MIN_NM 0.05
 /** The contact law's stiffness is identified when the blocks span this range of force [N m]. */
@@ -654,11 +660,48 @@ out:
 /* 3. Stops                                                                                    */
 /* ------------------------------------------------------------------------------------------ */
 
+/* The contact forces of the rest blocks for a friction level fric [N m]: push less the friction
+ * of a loading block, plus that of an unloading one; blocks below ID_BLOCK_F_MIN_NM dropped. */
+static void build_forces(double *const Pr[2], double *const Sr[2], double *const Ar[2], const size_t nr[2], double fric,
+                         double *F[2], double *A[2], size_t nb[2], double f_lo[2], double f_hi[2])
+{
+    int s;
+    size_t b;
+    for (s = 0; s < 2; ++s) {
+        nb[s] = 0u;
+        f_lo[s] = HUGE_VAL;
+        f_hi[s] = 0.0;
+        for (b = 0; b < nr[s]; ++b) {
+            const double f = Pr[s][b] - Sr[s][b] * fric;
+            if (f > ID_BLOCK_F_MIN_NM) {
+                F[s][nb[s]] = f;
+                A[s][nb[s]] = Ar[s][b];
+                f_lo[s] = fmin(f_lo[s], f);
+                f_hi[s] = fmax(f_hi[s], f);
+                ++nb[s];
+            }
+        }
+    }
+}
+
 static int fit_stops(const id_data_t *d, id_result_t *res)
 {
     const size_t nb_max = d->n / ID_BLOCK + 1u;
     double *F[2];
     double *A[2];
+    double *Pr[2];
+    double *Sr[2];
+    double *Ar[2];
+    size_t nr[2] = {0u, 0u};
+    int jf;
+    double cand_ms = HUGE_VAL;
+    double cand_fr = 1.0;
+    double cand_e = 1.0;
+    double cand_a0[2] = {(double)NAN, (double)NAN};
+    double cand_k[2] = {(double)NAN, (double)NAN};
+    int episode = -1;        /* the stop of the current rest episode, -1: none */
+    double ep_max = -HUGE_VAL; /* the largest push of the episode so far [N m] */
+    const double Mc = res->identified[ID_P_MC] ? res->value[ID_P_MC] : 0.0;
     tv_real_t lvF[2][SL_LEVELS];
     tv_real_t lvA[2][SL_LEVELS];
     unsigned nlev[2] = {0u, 0u};
@@ -682,7 +725,14 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
     F[1] = (double *)malloc(nb_max * sizeof(double));
     A[0] = (double *)malloc(nb_max * sizeof(double));
     A[1] = (double *)malloc(nb_max * sizeof(double));
-    if (F[0] == NULL || F[1] == NULL || A[0] == NULL || A[1] == NULL) {
+    Pr[0] = (double *)malloc(nb_max * sizeof(double));
+    Pr[1] = (double *)malloc(nb_max * sizeof(double));
+    Sr[0] = (double *)malloc(nb_max * sizeof(double));
+    Sr[1] = (double *)malloc(nb_max * sizeof(double));
+    Ar[0] = (double *)malloc(nb_max * sizeof(double));
+    Ar[1] = (double *)malloc(nb_max * sizeof(double));
+    if (F[0] == NULL || F[1] == NULL || A[0] == NULL || A[1] == NULL || Pr[0] == NULL || Pr[1] == NULL ||
+        Sr[0] == NULL || Sr[1] == NULL || Ar[0] == NULL || Ar[1] == NULL) {
         rc = TV_ERR_IO;
         goto out;
     }
@@ -693,7 +743,12 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
         mark(res, ID_P_STOP_EXP, NAN, NAN, 0, "needs n Kt and the springs, which were not identified");
         goto out;
     }
-    /* rest blocks: still, steady voltage, at an end of the travel, pressed into it */
+    /* Rest blocks: still, steady voltage, at an end of the travel, pressed into it. Friction holds
+     * a resting plate where its last motion left it, opposing that motion, at about Mc (measured
+     * on the plant: 0.6 .. 1.2 Mc): a block reached by LOADING (the plate arrived at the stop, or
+     * the push rose) carries Mc less on the stop than the motor and springs give, one reached by
+     * UNLOADING (the push fell since the plate arrived: it crept back out) Mc more. The episode is
+     * the run of blocks whose every sample stays near that end of the travel. */
     for (b = 0; (b + 1u) * ID_BLOCK <= d->n; ++b) {
         const size_t k0 = b * ID_BLOCK;
         double pmin = HUGE_VAL;
@@ -703,6 +758,7 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
         double psum = 0.0;
         double isum = 0.0;
         int ok = 1;
+        int near = -1; /* the end all samples of the block are near, -1: none */
         size_t k;
         for (k = k0; k < k0 + ID_BLOCK; ++k) {
             if (d->ok[k] == 0u) {
@@ -716,84 +772,113 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
             psum += d->phi_rad[k];
             isum += d->i_A[k];
         }
-        if (!ok || pmax - pmin > ID_BLOCK_SPREAD_RAD || umax - umin > ID_BLOCK_SPREAD_V) {
+        if (ok && pmin > res->travel_hi_rad - ID_BLOCK_NEAR_RAD) {
+            near = 1;
+        } else if (ok && pmax < res->travel_lo_rad + ID_BLOCK_NEAR_RAD) {
+            near = 0;
+        }
+        if (near != episode) { /* a new episode at a stop, or none */
+            episode = near;
+            ep_max = -HUGE_VAL;
+        }
+        if (near < 0 || pmax - pmin > ID_BLOCK_SPREAD_RAD || umax - umin > ID_BLOCK_SPREAD_V) {
             continue;
         }
         {
             const double phi = psum / (double)ID_BLOCK;
             const double torque = nKt * isum / (double)ID_BLOCK;
-            const int at = phi > res->travel_hi_rad - ID_BLOCK_NEAR_RAD ? 1
-                           : phi < res->travel_lo_rad + ID_BLOCK_NEAR_RAD ? 0
-                                                                          : -1;
-            /* contact force into the stop: motor torque less the springs (M0 sp(phi) + c phi) */
-            const double f = at == 1 ? torque - M0 * sgn(phi) - c * phi : M0 * sgn(phi) + c * phi - torque;
-            if (at >= 0 && f > ID_BLOCK_F_MIN_NM) {
-                F[at][nb[at]] = f;
-                A[at][nb[at]] = phi;
-                f_lo[at] = fmin(f_lo[at], f);
-                f_hi[at] = fmax(f_hi[at], f);
-                ++nb[at];
-            }
+            /* push into the stop: motor torque less the springs (M0 sp(phi) + c phi) */
+            const double push = near == 1 ? torque - M0 * sgn(phi) - c * phi : M0 * sgn(phi) + c * phi - torque;
+            Pr[near][nr[near]] = push;
+            Sr[near][nr[near]] = push < ep_max - ID_UNLOAD_NM ? -1.0 : 1.0; /* -1: unloading */
+            Ar[near][nr[near]] = phi;
+            ++nr[near];
+            ep_max = fmax(ep_max, push);
         }
     }
+    /* The friction a block carries is about Mc (0.6 .. 1.2 Mc on the plant): its factor phi_f is
+     * searched on a grid together with the exponent, the pair with the smallest RMS residual of
+     * the rest angles is kept. */
+    for (jf = 0; jf < ID_FRIC_GRID; ++jf) {
+        const double fr = ID_FRIC_LO + (ID_FRIC_HI - ID_FRIC_LO) * (double)jf / (double)(ID_FRIC_GRID - 1);
+        double fbest = HUGE_VAL;
+        size_t nused = 0;
+        build_forces(Pr, Sr, Ar, nr, fr * Mc, F, A, nb, f_lo, f_hi);
+        nlev[0] = nlev[1] = 0u;
+        best_sse = HUGE_VAL;
+        /* the blocks of each stop pooled into SL_LEVELS force levels (equal counts, sorted by force),
+         * the form the stop-learning routine's fit takes */
+        for (s = 0; s < 2; ++s) {
+            if (nb[s] >= 2u) {
+                const unsigned nl = nb[s] < SL_LEVELS ? (unsigned)nb[s] : SL_LEVELS;
+                unsigned l;
+                gsl_sort2(F[s], 1, A[s], 1, nb[s]);
+                for (l = 0; l < nl; ++l) {
+                    const size_t b0 = nb[s] * l / nl;
+                    const size_t b1 = nb[s] * (l + 1u) / nl;
+                    double fs = 0.0;
+                    double as = 0.0;
+                    for (b = b0; b < b1; ++b) {
+                        fs += F[s][b];
+                        as += A[s][b];
+                    }
+                    lvF[s][l] = (tv_real_t)(fs / (double)(b1 - b0));
+                    lvA[s][l] = (tv_real_t)(as / (double)(b1 - b0));
+                }
+                nlev[s] = nl;
+            }
+        }
+        /* contact law: exponent grid, sl_contact_fit() per stop, the exponent common to both */
+        for (j = 0; j < ID_EXP_GRID; ++j) {
+            const double e = 1.0 + (double)j / (double)(ID_EXP_GRID - 1);
+            const double kscale = pow((double)SL_P_REF_RAD, 1.0 - e);
+            double sse = 0.0;
+            double a0[2] = {(double)NAN, (double)NAN};
+            double kk[2] = {(double)NAN, (double)NAN};
+            for (s = 0; s < 2; ++s) {
+                tv_real_t a0r;
+                tv_real_t kr;
+                const tv_real_t dir = s == 0 ? TV_R(-1.0) : TV_R(1.0);
+                if (nlev[s] < 2u || f_hi[s] - f_lo[s] < 1e-3) {
+                    continue;
+                }
+                if (sl_contact_fit(lvF[s], lvA[s], nlev[s], dir, (tv_real_t)e, (tv_real_t)((double)slc.k_min * kscale),
+                                   (tv_real_t)((double)slc.k_max * kscale), &a0r, &kr) != TV_OK) {
+                    continue;
+                }
+                a0[s] = (double)a0r;
+                kk[s] = (double)kr;
+                for (b = 0; b < nb[s]; ++b) {
+                    const double r = A[s][b] - (a0[s] + (double)dir * pow(F[s][b] / kk[s], 1.0 / e));
+                    sse += r * r;
+                }
+            }
+            if (sse < best_sse && (isfinite(a0[0]) || isfinite(a0[1]))) {
+                best_sse = sse;
+                best_e = e;
+                best_a0[0] = a0[0];
+                best_a0[1] = a0[1];
+                best_k[0] = kk[0];
+                best_k[1] = kk[1];
+            }
+        }
+        nused = nb[0] + nb[1];
+        fbest = nused > 0u ? best_sse / (double)nused : HUGE_VAL;
+        if (fbest < cand_ms) {
+            cand_ms = fbest;
+            cand_fr = fr;
+            cand_e = best_e;
+            memcpy(cand_a0, best_a0, sizeof cand_a0);
+            memcpy(cand_k, best_k, sizeof cand_k);
+        }
+    }
+    build_forces(Pr, Sr, Ar, nr, cand_fr * Mc, F, A, nb, f_lo, f_hi);
+    best_sse = cand_ms * (double)(nb[0] + nb[1]);
+    best_e = cand_e;
+    memcpy(best_a0, cand_a0, sizeof best_a0);
+    memcpy(best_k, cand_k, sizeof best_k);
     res->n_blocks[0] = nb[0];
     res->n_blocks[1] = nb[1];
-    /* the blocks of each stop pooled into SL_LEVELS force levels (equal counts, sorted by force),
-     * the form the stop-learning routine's fit takes */
-    for (s = 0; s < 2; ++s) {
-        if (nb[s] >= 2u) {
-            const unsigned nl = nb[s] < SL_LEVELS ? (unsigned)nb[s] : SL_LEVELS;
-            unsigned l;
-            gsl_sort2(F[s], 1, A[s], 1, nb[s]);
-            for (l = 0; l < nl; ++l) {
-                const size_t b0 = nb[s] * l / nl;
-                const size_t b1 = nb[s] * (l + 1u) / nl;
-                double fs = 0.0;
-                double as = 0.0;
-                for (b = b0; b < b1; ++b) {
-                    fs += F[s][b];
-                    as += A[s][b];
-                }
-                lvF[s][l] = (tv_real_t)(fs / (double)(b1 - b0));
-                lvA[s][l] = (tv_real_t)(as / (double)(b1 - b0));
-            }
-            nlev[s] = nl;
-        }
-    }
-    /* contact law: exponent grid, sl_contact_fit() per stop, the exponent common to both */
-    for (j = 0; j < ID_EXP_GRID; ++j) {
-        const double e = 1.0 + (double)j / (double)(ID_EXP_GRID - 1);
-        const double kscale = pow((double)SL_P_REF_RAD, 1.0 - e);
-        double sse = 0.0;
-        double a0[2] = {(double)NAN, (double)NAN};
-        double kk[2] = {(double)NAN, (double)NAN};
-        for (s = 0; s < 2; ++s) {
-            tv_real_t a0r;
-            tv_real_t kr;
-            const tv_real_t dir = s == 0 ? TV_R(-1.0) : TV_R(1.0);
-            if (nlev[s] < 2u || f_hi[s] - f_lo[s] < 1e-3) {
-                continue;
-            }
-            if (sl_contact_fit(lvF[s], lvA[s], nlev[s], dir, (tv_real_t)e, (tv_real_t)((double)slc.k_min * kscale),
-                               (tv_real_t)((double)slc.k_max * kscale), &a0r, &kr) != TV_OK) {
-                continue;
-            }
-            a0[s] = (double)a0r;
-            kk[s] = (double)kr;
-            for (b = 0; b < nb[s]; ++b) {
-                const double r = A[s][b] - (a0[s] + (double)dir * pow(F[s][b] / kk[s], 1.0 / e));
-                sse += r * r;
-            }
-        }
-        if (sse < best_sse && (isfinite(a0[0]) || isfinite(a0[1]))) {
-            best_sse = sse;
-            best_e = e;
-            best_a0[0] = a0[0];
-            best_a0[1] = a0[1];
-            best_k[0] = kk[0];
-            best_k[1] = kk[1];
-        }
-    }
     {
         size_t ntot = 0;
         int stiff_ok = 1;
@@ -859,6 +944,11 @@ out:
     free(F[1]);
     free(A[0]);
     free(A[1]);
+    for (s = 0; s < 2; ++s) {
+        free(Pr[s]);
+        free(Sr[s]);
+        free(Ar[s]);
+    }
     return rc;
 }
 
