@@ -358,9 +358,10 @@ int main(int argc, char **argv)
     print_result(stdout, &res);
     if (!res.moved) {
         fprintf(stderr, "%s: %s: too little excitation: the plate did not move enough both ways in free motion to identify "
-                        "its parameters (%s); nothing written. Record an open-loop log that moves the plate both ways at "
-                        "several speeds and touches both stops (host_sim --scenario ident, APP_MODE_IDENT).\n",
-                s_prog, in_path, res.why[ID_P_J]);
+                        "its parameters (its angle spans %.4f .. %.4f rad; %s); nothing written. Record an open-loop log "
+                        "that moves the plate both ways at several speeds and touches both stops (host_sim --scenario "
+                        "ident, APP_MODE_IDENT).\n",
+                s_prog, in_path, res.travel_lo_rad, res.travel_hi_rad, res.why[ID_P_J]);
         return ID_EXIT_EXCITATION;
     }
     {
