@@ -12,6 +12,7 @@
 #include <gsl/gsl_min.h>
 #include <gsl/gsl_multifit.h>
 #include <gsl/gsl_sort.h>
+#include <gsl/gsl_sort_ulong.h>
 #include <gsl/gsl_statistics_double.h>
 
 #include "stop_learn.h"
@@ -39,6 +40,8 @@
 #define ID_FRIC_LO 0.5
 #define ID_FRIC_HI 1.3
 #define ID_FRIC_GRID 9
+/** Rest blocks whose forces differ by more than this may be different levels [N m]. */
+#define ID_LEVEL_GAP_NM 0.03
 /** Smallest contact force of a rest block [N m]. */
 #define ID_BLOCK_F_MIN_NM 0.05
 /** The contact law's stiffness is identified when the blocks span this range of force [N m]. */
@@ -806,24 +809,52 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
         build_forces(Pr, Sr, Ar, nr, fr * Mc, F, A, nb, f_lo, f_hi);
         nlev[0] = nlev[1] = 0u;
         best_sse = HUGE_VAL;
-        /* the blocks of each stop pooled into SL_LEVELS force levels (equal counts, sorted by force),
-         * the form the stop-learning routine's fit takes */
+        /* the blocks of each stop pooled into at most SL_LEVELS force levels, the form the
+         * stop-learning routine's fit takes: split where the sorted forces leave their largest
+         * gaps (each level the log held weighs the same, however long it was held); a log with
+         * one level only is split into equal counts */
         for (s = 0; s < 2; ++s) {
             if (nb[s] >= 2u) {
-                const unsigned nl = nb[s] < SL_LEVELS ? (unsigned)nb[s] : SL_LEVELS;
+                size_t cut[SL_LEVELS + 1u];
+                unsigned nl = 1u;
                 unsigned l;
                 gsl_sort2(F[s], 1, A[s], 1, nb[s]);
+                cut[0] = 0u;
+                while (nl < SL_LEVELS) { /* the largest gap not yet cut, above ID_LEVEL_GAP_NM */
+                    size_t bg = 0u;
+                    double g = ID_LEVEL_GAP_NM;
+                    for (b = 0; b + 1u < nb[s]; ++b) {
+                        int taken = 0;
+                        for (l = 1; l < nl; ++l) {
+                            taken |= cut[l] == b + 1u;
+                        }
+                        if (!taken && F[s][b + 1u] - F[s][b] > g) {
+                            g = F[s][b + 1u] - F[s][b];
+                            bg = b + 1u;
+                        }
+                    }
+                    if (bg == 0u) {
+                        break;
+                    }
+                    cut[nl++] = bg;
+                }
+                if (nl == 1u) {
+                    nl = nb[s] < SL_LEVELS ? (unsigned)nb[s] : SL_LEVELS;
+                    for (l = 1; l < nl; ++l) {
+                        cut[l] = nb[s] * l / nl;
+                    }
+                }
+                gsl_sort_ulong(cut, 1, nl);
+                cut[nl] = nb[s];
                 for (l = 0; l < nl; ++l) {
-                    const size_t b0 = nb[s] * l / nl;
-                    const size_t b1 = nb[s] * (l + 1u) / nl;
                     double fs = 0.0;
                     double as = 0.0;
-                    for (b = b0; b < b1; ++b) {
+                    for (b = cut[l]; b < cut[l + 1u]; ++b) {
                         fs += F[s][b];
                         as += A[s][b];
                     }
-                    lvF[s][l] = (tv_real_t)(fs / (double)(b1 - b0));
-                    lvA[s][l] = (tv_real_t)(as / (double)(b1 - b0));
+                    lvF[s][l] = (tv_real_t)(fs / (double)(cut[l + 1u] - cut[l]));
+                    lvA[s][l] = (tv_real_t)(as / (double)(cut[l + 1u] - cut[l]));
                 }
                 nlev[s] = nl;
             }
