@@ -323,13 +323,20 @@ static tv_real_t time_in_period_s(uint64_t elapsed_us, tv_real_t period_s)
 /* The APP_MODE_IDENT sequence (app.h): segments of a fixed table, voltages as fractions of the
  * amplitude. Sines and squares run a whole number of cycles per segment, so every segment starts
  * and ends at its offset (no jump but the designed ones). */
-typedef enum { IDENT_CONST = 0, IDENT_SINE, IDENT_SQUARE } ident_kind_t;
+typedef enum { IDENT_CONST = 0, IDENT_SINE, IDENT_SQUARE, IDENT_SETTLE } ident_kind_t;
 typedef struct {
     uint32_t dur_ms;   /* segment length [ms] */
     uint8_t kind;      /* ident_kind_t */
     uint8_t cycles;    /* sine / square cycles over the segment */
-    float level;       /* constant level (IDENT_CONST) or amplitude, fraction of amplitude_V */
+    float level;       /* constant level (IDENT_CONST, IDENT_SETTLE) or amplitude, fraction of amplitude_V */
 } ident_seg_t;
+
+/* IDENT_SETTLE: a constant level, reached through a 100 Hz square dither that decays linearly
+ * from IDENT_SETTLE_FRAC x amplitude_V (2.4 V at 12 V, above either class's static friction) to
+ * nothing over the first IDENT_SETTLE_MS: the plate is shaken free of the friction its arrival
+ * left and comes to rest where the stop balances the push (as stop learning settles). */
+#define IDENT_SETTLE_FRAC 0.2f
+#define IDENT_SETTLE_MS 300u
 
 static const ident_seg_t s_ident[] = {
     {500u, IDENT_CONST, 0u, 0.0f},    /* at rest at limp-home: the current's zero */
@@ -338,15 +345,17 @@ static const ident_seg_t s_ident[] = {
     {2000u, IDENT_SINE, 5u, 1.0f},    /* 2.5 Hz, 12 V: fast travel, inertia */
     {2000u, IDENT_SINE, 10u, 1.0f},   /* 5 Hz, 12 V (the paper's sine) */
     {4000u, IDENT_SQUARE, 4u, 0.8f},  /* +-9.6 V steps at 1 Hz: accelerations, dwells at both stops */
-    {750u, IDENT_CONST, 0u, 1.0f},    /* open stop, unloaded in four levels: contact law, stop angle, R at stall */
-    {750u, IDENT_CONST, 0u, 0.6f},
-    {750u, IDENT_CONST, 0u, 0.4f},
-    {750u, IDENT_CONST, 0u, 0.25f},
+    /* open stop, unloaded in four levels, each settled by a decaying dither: contact law, stop
+     * angle, R at stall */
+    {750u, IDENT_SETTLE, 0u, 1.0f},
+    {750u, IDENT_SETTLE, 0u, 0.6f},
+    {750u, IDENT_SETTLE, 0u, 0.4f},
+    {750u, IDENT_SETTLE, 0u, 0.25f},
     {500u, IDENT_CONST, 0u, 0.0f},    /* spring return */
-    {750u, IDENT_CONST, 0u, -1.0f},   /* closed stop, the same four levels */
-    {750u, IDENT_CONST, 0u, -0.6f},
-    {750u, IDENT_CONST, 0u, -0.4f},
-    {750u, IDENT_CONST, 0u, -0.25f},
+    {750u, IDENT_SETTLE, 0u, -1.0f},   /* closed stop, the same four levels */
+    {750u, IDENT_SETTLE, 0u, -0.6f},
+    {750u, IDENT_SETTLE, 0u, -0.4f},
+    {750u, IDENT_SETTLE, 0u, -0.25f},
     {500u, IDENT_CONST, 0u, 0.0f},
     {6500u, IDENT_SINE, 2u, 0.35f},   /* 0.31 Hz, 4.2 V: slow motion, low-speed reversals */
 };
@@ -365,6 +374,11 @@ tv_real_t app_ident_voltage(uint32_t t_ms, tv_real_t amplitude_V)
             }
             if (g->kind == (uint8_t)IDENT_SQUARE) {
                 return ((t * 2u * g->cycles) / g->dur_ms) % 2u == 0u ? a : -a;
+            }
+            if (g->kind == (uint8_t)IDENT_SETTLE && t < IDENT_SETTLE_MS) {
+                const tv_real_t dv = (tv_real_t)IDENT_SETTLE_FRAC * amplitude_V *
+                                     (tv_real_t)(IDENT_SETTLE_MS - t) / (tv_real_t)IDENT_SETTLE_MS;
+                return (t / 5u) % 2u == 0u ? a + dv : a - dv; /* 5 ms half periods: 100 Hz */
             }
             return a;
         }

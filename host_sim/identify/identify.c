@@ -42,6 +42,14 @@
 #define ID_FRIC_GRID 9
 /** Rest blocks whose forces differ by more than this may be different levels [N m]. */
 #define ID_LEVEL_GAP_NM 0.03
+/** A rest block was settled by a dither when the voltage swung by this much [V] within this many
+ * samples before it at the stop (APP_MODE_IDENT's settling levels). */
+#define ID_DITHER_SWING_V 1.0
+#define ID_DITHER_LOOKBACK 250u
+/** Settled rest blocks at a stop that make its other rest blocks unnecessary. */
+#define ID_SETTLED_MIN 6u
+/** The ends of the travel are these quantiles of the smoothed angle (0.5 %: 150 ms of a 30 s log). */
+#define ID_TRAVEL_QUANTILE 0.005
 /** Smallest contact force of a rest block [N m]. */
 #define ID_BLOCK_F_MIN_NM 0.05
 /** The contact law's stiffness is identified when the blocks span this range of force [N m]. */
@@ -687,6 +695,25 @@ static void build_forces(double *const Pr[2], double *const Sr[2], double *const
     }
 }
 
+/* 1 when the voltage swung by more than ID_DITHER_SWING_V within the ID_DITHER_LOOKBACK samples
+ * before k0 while the plate stayed within ID_BLOCK_NEAR_RAD of where it is at k0: the rest that
+ * follows was settled by a dither. */
+static int dithered_before(const id_data_t *d, size_t k0)
+{
+    size_t j;
+    double umin = HUGE_VAL;
+    double umax = -HUGE_VAL;
+    for (j = 1; j <= ID_DITHER_LOOKBACK && j <= k0; ++j) {
+        const size_t k = k0 - j;
+        if (d->ok[k] == 0u || fabs(d->phi_rad[k] - d->phi_rad[k0]) > ID_BLOCK_NEAR_RAD) {
+            return 0;
+        }
+        umin = fmin(umin, d->u_V[k]);
+        umax = fmax(umax, d->u_V[k]);
+    }
+    return umax - umin > ID_DITHER_SWING_V && k0 >= ID_DITHER_LOOKBACK;
+}
+
 static int fit_stops(const id_data_t *d, id_result_t *res)
 {
     const size_t nb_max = d->n / ID_BLOCK + 1u;
@@ -793,10 +820,37 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
             /* push into the stop: motor torque less the springs (M0 sp(phi) + c phi) */
             const double push = near == 1 ? torque - M0 * sgn(phi) - c * phi : M0 * sgn(phi) + c * phi - torque;
             Pr[near][nr[near]] = push;
-            Sr[near][nr[near]] = push < ep_max - ID_UNLOAD_NM ? -1.0 : 1.0; /* -1: unloading */
+            /* -1: unloading, +1: loading, 0: settled by a dither (friction shaken off) */
+            Sr[near][nr[near]] = dithered_before(d, k0) ? 0.0 : (push < ep_max - ID_UNLOAD_NM ? -1.0 : 1.0);
             Ar[near][nr[near]] = phi;
             ++nr[near];
             ep_max = fmax(ep_max, push);
+        }
+    }
+    /* where the log settled a stop's rests by a dither (at least ID_SETTLED_MIN blocks spanning
+     * ID_STOP_F_SPAN_NM of push), those blocks alone: they carry no friction to guess */
+    for (s = 0; s < 2; ++s) {
+        size_t m = 0;
+        double plo = HUGE_VAL;
+        double phi_ = -HUGE_VAL;
+        for (b = 0; b < nr[s]; ++b) {
+            if (Sr[s][b] == 0.0) {
+                ++m;
+                plo = fmin(plo, Pr[s][b]);
+                phi_ = fmax(phi_, Pr[s][b]);
+            }
+        }
+        if (m >= ID_SETTLED_MIN && phi_ - plo >= ID_STOP_F_SPAN_NM) {
+            m = 0;
+            for (b = 0; b < nr[s]; ++b) {
+                if (Sr[s][b] == 0.0) {
+                    Pr[s][m] = Pr[s][b];
+                    Sr[s][m] = 0.0;
+                    Ar[s][m] = Ar[s][b];
+                    ++m;
+                }
+            }
+            nr[s] = m;
         }
     }
     /* The friction a block carries is about Mc (0.6 .. 1.2 Mc on the plant): its factor phi_f is
@@ -985,10 +1039,39 @@ out:
 
 /* ------------------------------------------------------------------------------------------ */
 
+/*
+ * The ends of the travel: the ID_TRAVEL_QUANTILE and 1 - ID_TRAVEL_QUANTILE quantiles of the
+ * smoothed angle. A plate rests at its stops for seconds in any log that identifies them; an
+ * impact into a soft stop goes deeper for a few milliseconds only (30 mrad measured on the
+ * softest units), which the extremes would take for the stop.
+ */
+static int travel_ends(const id_data_t *d, const id_sig_t *s, id_result_t *res)
+{
+    double *v = (double *)malloc((d->n > 0u ? d->n : 1u) * sizeof(double));
+    size_t m = 0;
+    size_t k;
+    if (v == NULL) {
+        return TV_ERR_IO;
+    }
+    for (k = 0; k < d->n; ++k) {
+        if (s->win[k] != 0u) {
+            v[m++] = s->phi[k];
+        }
+    }
+    if (m == 0u) {
+        res->travel_lo_rad = res->travel_hi_rad = 0.0;
+    } else {
+        gsl_sort(v, 1, m);
+        res->travel_lo_rad = gsl_stats_quantile_from_sorted_data(v, 1, m, ID_TRAVEL_QUANTILE);
+        res->travel_hi_rad = gsl_stats_quantile_from_sorted_data(v, 1, m, 1.0 - ID_TRAVEL_QUANTILE);
+    }
+    free(v);
+    return TV_OK;
+}
+
 int id_run(const id_data_t *d, FILE *progress, id_result_t *res)
 {
     id_sig_t s;
-    size_t k;
     int p;
     int rc;
     gsl_error_handler_t *old;
@@ -1012,14 +1095,9 @@ int id_run(const id_data_t *d, FILE *progress, id_result_t *res)
     memset(&s, 0, sizeof s);
     rc = sig_build(d, &s);
     if (rc == TV_OK) {
-        res->travel_lo_rad = HUGE_VAL;
-        res->travel_hi_rad = -HUGE_VAL;
-        for (k = 0; k < d->n; ++k) {
-            if (s.win[k] != 0u) {
-                res->travel_lo_rad = fmin(res->travel_lo_rad, s.phi[k]);
-                res->travel_hi_rad = fmax(res->travel_hi_rad, s.phi[k]);
-            }
-        }
+        rc = travel_ends(d, &s, res);
+    }
+    if (rc == TV_OK) {
         if (progress != NULL) {
             fprintf(progress, "identify: %lu samples; angle %.4f .. %.4f rad; armature fit ...\n", (unsigned long)d->n,
                     res->travel_lo_rad, res->travel_hi_rad);
