@@ -115,6 +115,9 @@ static void test_values_stored(void)
     TV_CHECK_EQ_INT(app.control.mode, APP_MODE_POSITION);
     TV_CHECK_NEAR(app.control.target_rad, -0.05, 1e-6);
     TV_CHECK_NEAR(app.calib.tps1_rad_per_count, 5e-4, 1e-9);
+    /* the identification excitation by name (README "Identification") */
+    TV_CHECK_EQ_INT(parse_with("app.mode = ident\n", &cfg, err, sizeof err), TV_OK);
+    TV_CHECK_EQ_INT(cfg.app_mode, APP_MODE_IDENT);
 }
 
 /* Syntax errors: the message names the file, the line and what is wrong. */

@@ -65,7 +65,7 @@ static const key_desc_t s_keys[] = {
     NUM("can.period_ms.cmd_stats", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_CMD_STATS], 0),
     NUM("can.period_ms.ekf_stats", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_EKF_STATS], 0),
     NUM("can.period_ms.time", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_TIME], 0),
-    NUM("app.mode", K_MODE, 0, 4, app_mode, 0),
+    NUM("app.mode", K_MODE, 0, 7, app_mode, 0),
     /* the ranges of the command frames (can_proto.h), so a configuration can be commanded */
     NUM("app.amplitude_V", K_DOUBLE, 0, 24, app_amplitude_V, 0),
     NUM("app.freq_Hz", K_DOUBLE, 0, 200, app_freq_Hz, 0),
@@ -88,7 +88,12 @@ static const key_desc_t s_keys[] = {
 /* Largest file read by lx_config_load() [bytes]. */
 #define FILE_MAX_LEN ((size_t)64 * 1024u)
 
-static const char *const s_modes[] = {"off", "sine", "steps", "chirp", "position"};
+/* The modes a configuration can start in, by name. */
+static const struct {
+    const char *name;
+    app_mode_t mode;
+} s_modes[] = {{"off", APP_MODE_OFF},     {"sine", APP_MODE_SINE},         {"steps", APP_MODE_STEPS},
+               {"chirp", APP_MODE_CHIRP}, {"position", APP_MODE_POSITION}, {"ident", APP_MODE_IDENT}};
 
 void lx_config_default(lx_config_t *cfg)
 {
@@ -164,13 +169,13 @@ static int store(const key_desc_t *k, const char *v, lx_config_t *cfg, const cha
     if (k->type == K_MODE) {
         size_t i;
         for (i = 0; i < sizeof s_modes / sizeof s_modes[0]; ++i) {
-            if (strcmp(v, s_modes[i]) == 0) {
-                int32_t m = (int32_t)i;
+            if (strcmp(v, s_modes[i].name) == 0) {
+                int32_t m = (int32_t)s_modes[i].mode;
                 memcpy(base, &m, sizeof m);
                 return TV_OK;
             }
         }
-        *why = "not one of off, sine, steps, chirp, position";
+        *why = "not one of off, sine, steps, chirp, position, ident";
         return TV_ERR_FORMAT;
     }
     if (k->type == K_BOOL) {

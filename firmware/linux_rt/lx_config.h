@@ -42,7 +42,7 @@ typedef struct {
     /* CAN protocol */
     can_proto_config_t can;       /**< can.cmd_timeout_ms, can.max_counter_delta, can.period_ms.* */
     /* start-up control (commands override it at run time) */
-    int32_t app_mode;             /**< app.mode: off, sine, steps, chirp, position (app_mode_t) */
+    int32_t app_mode;             /**< app.mode: off, sine, steps, chirp, position, ident (app_mode_t) */
     double app_amplitude_V;       /**< app.amplitude_V */
     double app_freq_Hz;           /**< app.freq_Hz */
     double app_chirp_f1_Hz;       /**< app.chirp_f1_Hz */
