@@ -100,9 +100,6 @@ static int ls_solve(const double *X, const double *y, const uint8_t *use, size_t
 {
     size_t n = 0;
     size_t r;
-    size_t a;
-    size_t b;
-    double mean = 0.0;
     double chisq = 0.0;
     int rc = TV_OK;
     gsl_matrix *A;
@@ -129,6 +126,8 @@ static int ls_solve(const double *X, const double *y, const uint8_t *use, size_t
         rc = TV_ERR_IO;
     } else {
         size_t m = 0;
+        size_t a;
+        double mean = 0.0;
         for (r = 0; r < nrows; ++r) {
             if (use[r] != 0u) {
                 for (a = 0; a < p; ++a) {
@@ -145,6 +144,7 @@ static int ls_solve(const double *X, const double *y, const uint8_t *use, size_t
             rc = TV_ERR_NUMERIC;
         } else {
             const double s2 = chisq / (double)(n - p);
+            size_t b;
             f->n = n;
             f->ssr = chisq;
             for (a = 0; a < p; ++a) {
@@ -406,8 +406,8 @@ static double elec_nKe(const double *t) { return t[2] / t[1]; }
 static int fit_armature(const id_data_t *d, const id_sig_t *s, id_result_t *res)
 {
     const size_t n = d->n;
-    double *X = (double *)malloc(3u * n * sizeof(double));
-    double *y = (double *)malloc(n * sizeof(double));
+    double *X = (double *)calloc(3u * n, sizeof(double));
+    double *y = (double *)calloc(n, sizeof(double));
     uint8_t *use = (uint8_t *)calloc(n, 1u);
     ls_fit_t f;
     size_t k;

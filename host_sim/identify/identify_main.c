@@ -176,9 +176,8 @@ static int write_params(FILE *f, const char *log_name, const id_result_t *r, dou
     put_param(f, "model.M0_Nm", r, ID_P_M0, 1.0);
     put_param(f, "model.c_Nm_rad", r, ID_P_C, 1.0);
     put_param(f, "model.Mc_Nm", r, ID_P_MC, 1.0);
-    if (r->identified[ID_P_MS] && (!r->identified[ID_P_MC] || r->value[ID_P_MS] >= r->value[ID_P_MC])) {
-        put_param(f, "model.Ms_Nm", r, ID_P_MS, 1.0);
-    } else if (r->identified[ID_P_MC]) {
+    if (r->identified[ID_P_MC] && !(r->identified[ID_P_MS] && r->value[ID_P_MS] >= r->value[ID_P_MC])) {
+        /* Mc is known and Ms is not, or is below it: the rule Ms >= Mc of every reader */
         char note[ID_WHY_MAX + 128];
         (void)snprintf(note, sizeof note, "static friction not identified (%s): set to Mc, the least Ms >= Mc allows",
                        r->identified[ID_P_MS] ? "below Mc" : r->why[ID_P_MS]);
