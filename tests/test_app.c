@@ -301,8 +301,7 @@ static void test_no_usable_angle_leaves_the_current_correcting(void)
 
 /* APP_MODE_IDENT's sequence (app.h, README "Identification"): the documented levels at their
  * documented times, the period of 30 s filled exactly (the last segment ends at 29.999 s and the
- * sequence restarts at 30 s), never beyond 1.2 x the amplitude (the settling dither on the top
- * levels), and scaled by it. */
+ * sequence restarts at 30 s), never beyond the amplitude, and scaled by it. */
 static void test_ident_sequence_is_the_documented_table(void)
 {
     const tv_real_t A = TV_R(12.0);
@@ -312,16 +311,16 @@ static void test_ident_sequence_is_the_documented_table(void)
     TV_CHECK_NEAR(app_ident_voltage(1000u, A), 4.8, 1e-5);    /* 0.5 Hz sine, 4.8 V from 0.5 s: peak at 1 s */
     TV_CHECK_NEAR(app_ident_voltage(12600u, A), 9.6, 1e-5);  /* +-9.6 V steps from 12.5 s (0.8f x 12) */
     TV_CHECK_NEAR(app_ident_voltage(13100u, A), -9.6, 1e-5);
-    /* open stop levels 12, 7.2, 4.8, 3 V, each reached through a 100 Hz dither of 2.4 V decaying
+    /* open stop levels 9, 6, 4.2, 3 V, each reached through a 100 Hz dither of 2.4 V decaying
      * to nothing over 300 ms */
-    TV_CHECK_NEAR(app_ident_voltage(16500u, A), 14.4, 1e-5);
-    TV_CHECK_NEAR(app_ident_voltage(16505u, A), 12.0 - 2.4 * 295.0 / 300.0, 1e-5);
-    TV_CHECK_NEAR(app_ident_voltage(16800u, A), 12.0, 1e-5);
-    TV_CHECK_NEAR(app_ident_voltage(17550u, A), 7.2, 1e-5);
-    TV_CHECK_NEAR(app_ident_voltage(18300u, A), 4.8, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(16500u, A), 11.4, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(16505u, A), 9.0 - 2.4 * 295.0 / 300.0, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(16800u, A), 9.0, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(17550u, A), 6.0, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(18300u, A), 4.2, 1e-5);
     TV_CHECK_NEAR(app_ident_voltage(19050u, A), 3.0, 1e-5);
     TV_CHECK_NEAR(app_ident_voltage(19500u, A), 0.0, 0.0);    /* spring return */
-    TV_CHECK_NEAR(app_ident_voltage(20300u, A), -12.0, 1e-5); /* closed stop levels */
+    TV_CHECK_NEAR(app_ident_voltage(20300u, A), -9.0, 1e-5); /* closed stop levels */
     TV_CHECK_NEAR(app_ident_voltage(22550u, A), -3.0, 1e-5);
     TV_CHECK_NEAR(app_ident_voltage(23000u, A), 0.0, 0.0);
     /* the last segment: 2 cycles of a 4.2 V sine over 6.5 s, from 23.5 s to the end of the period */
@@ -334,7 +333,7 @@ static void test_ident_sequence_is_the_documented_table(void)
         TV_CHECK_NEAR(app_ident_voltage(t + APP_IDENT_PERIOD_MS, A), v, 0.0);
         TV_CHECK_NEAR(app_ident_voltage(t, TV_R(6.0)), 0.5 * (double)v, 1e-5);
     }
-    TV_CHECK_NEAR(vmax, 14.4, 1e-5); /* the settling dither on the 12 V levels (the duty limit clips it) */
+    TV_CHECK_NEAR(vmax, 12.0, 1e-5);
 }
 
 int main(void)

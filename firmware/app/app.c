@@ -332,7 +332,9 @@ typedef struct {
 } ident_seg_t;
 
 /* IDENT_SETTLE: a constant level, reached through a 100 Hz square dither that decays linearly
- * from IDENT_SETTLE_FRAC x amplitude_V (2.4 V at 12 V, above either class's static friction) to
+ * from IDENT_SETTLE_FRAC x amplitude_V (2.4 V at 12 V, above either class's static friction
+ * in torque: 0.38 and 0.66 N m; the highest level, 0.75, plus the dither stays within the amplitude: a dither the
+ * duty limit clips leaves friction behind, measured 0.8 Mc at a 1.0 level) to
  * nothing over the first IDENT_SETTLE_MS: the plate is shaken free of the friction its arrival
  * left and comes to rest where the stop balances the push (as stop learning settles). */
 #define IDENT_SETTLE_FRAC 0.2f
@@ -347,14 +349,14 @@ static const ident_seg_t s_ident[] = {
     {4000u, IDENT_SQUARE, 4u, 0.8f},  /* +-9.6 V steps at 1 Hz: accelerations, dwells at both stops */
     /* open stop, unloaded in four levels, each settled by a decaying dither: contact law, stop
      * angle, R at stall */
-    {750u, IDENT_SETTLE, 0u, 1.0f},
-    {750u, IDENT_SETTLE, 0u, 0.6f},
-    {750u, IDENT_SETTLE, 0u, 0.4f},
+    {750u, IDENT_SETTLE, 0u, 0.75f},
+    {750u, IDENT_SETTLE, 0u, 0.5f},
+    {750u, IDENT_SETTLE, 0u, 0.35f},
     {750u, IDENT_SETTLE, 0u, 0.25f},
     {500u, IDENT_CONST, 0u, 0.0f},    /* spring return */
-    {750u, IDENT_SETTLE, 0u, -1.0f},   /* closed stop, the same four levels */
-    {750u, IDENT_SETTLE, 0u, -0.6f},
-    {750u, IDENT_SETTLE, 0u, -0.4f},
+    {750u, IDENT_SETTLE, 0u, -0.75f},   /* closed stop, the same four levels */
+    {750u, IDENT_SETTLE, 0u, -0.5f},
+    {750u, IDENT_SETTLE, 0u, -0.35f},
     {750u, IDENT_SETTLE, 0u, -0.25f},
     {500u, IDENT_CONST, 0u, 0.0f},
     {6500u, IDENT_SINE, 2u, 0.35f},   /* 0.31 Hz, 4.2 V: slow motion, low-speed reversals */

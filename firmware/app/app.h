@@ -66,10 +66,10 @@ typedef enum {
      * voltage sequence of APP_IDENT_PERIOD_MS (30 s), repeating, with its voltages scaled by
      * amplitude_V / 12 V (the table is written for amplitude_V = 12 V): slow and fast swings over
      * the whole travel both ways (sines at 0.5, 1, 2.5 and 5 Hz), voltage steps with dwells against
-     * both stops, each stop held at four decreasing voltages, each reached through a decaying
-     * 100 Hz dither that shakes the friction off (contact law, stop angles, R at stall; the
-     * dither peaks at 1.2 x amplitude_V on the top levels, clipped by the duty limit), and a slow
-     * sine for low-speed reversals. What `identify` needs from a log
+     * both stops, each stop held at four decreasing voltages (0.75, 0.5, 0.35, 0.25 x the
+     * amplitude), each reached through a decaying 100 Hz dither that shakes the friction off
+     * (contact law, stop angles, R at stall; level and dither stay within the amplitude, so a
+     * 12 V sequence fits a 12.5 V supply), and a slow sine for low-speed reversals. What `identify` needs from a log
      * (host_sim/identify/). app_ident_voltage() gives the sequence itself.
      */
     APP_MODE_IDENT = 7
