@@ -332,11 +332,11 @@ typedef struct {
 } ident_seg_t;
 
 /* IDENT_SETTLE: a constant level, reached through a 100 Hz square dither that decays linearly
- * from IDENT_SETTLE_FRAC x amplitude_V (2.4 V at 12 V, above either class's static friction
- * in torque: 0.38 and 0.66 N m; the highest level, 0.75, plus the dither stays within the amplitude: a dither the
- * duty limit clips leaves friction behind, measured 0.8 Mc at a 1.0 level) to
- * nothing over the first IDENT_SETTLE_MS: the plate is shaken free of the friction its arrival
- * left and comes to rest where the stop balances the push (as stop learning settles). */
+ * from IDENT_SETTLE_FRAC x amplitude_V to nothing over the first IDENT_SETTLE_MS: 2.4 V at 12 V,
+ * above either class's static friction in torque (0.38 and 0.66 N m). The plate is shaken free of
+ * the friction its arrival left and comes to rest where the stop balances the push (as stop
+ * learning settles). The highest level, 0.75, plus the dither stays within the amplitude: a
+ * dither the duty limit clips leaves friction behind (measured 0.8 Mc at a 1.0 level). */
 #define IDENT_SETTLE_FRAC 0.2f
 #define IDENT_SETTLE_MS 300u
 
