@@ -20,11 +20,15 @@
  *      twice), linear in (J, M0, c, Mc, Ms - Mc, Kv) for a given Stribeck velocity ws; ws by
  *      Brent's method (GSL) on the residual sum of squares over ln ws (variable projection),
  *      its standard deviation from the curvature of that sum.
- *   3. Stops: 50 ms blocks where the plate rests at the travel's ends under a steady push; the
- *      contact force (motor torque less the fitted springs) against the rest angle gives the
- *      Hunt-Crossley law a = a0 + dir (F / k)^(1/e) per stop, the exponent common to both
- *      (sl_contact_fit() of the stop-learning routine for each exponent of a grid); the onsets
- *      a0 are the stop angles, their standard deviation from a GSL fit at the chosen exponent.
+ *   3. Stops: 50 ms blocks where the plate rests at the travel's ends (the 0.5 % quantiles of
+ *      the angle) under a steady push; the contact force (motor torque less the fitted springs)
+ *      against the rest angle gives the Hunt-Crossley law a = a0 + dir (F / k)^(1/e) per stop,
+ *      the exponent common to both (sl_contact_fit() of the stop-learning routine for each
+ *      exponent of a grid, on the blocks pooled into force levels). Blocks settled by a dither
+ *      (APP_MODE_IDENT's stop levels) carry no friction and are used alone where a log has them;
+ *      otherwise each block is corrected by the friction its last motion left (loading or
+ *      unloading, its level searched with the exponent). The onsets a0 are the stop angles,
+ *      their standard deviation from a GSL fit at the chosen exponent.
  *   Each linear fit is done twice: samples with a residual beyond ID_OUTLIER_SIGMA robust
  *   standard deviations (stop impacts, stick-slip inside the window) are dropped for the second.
  *   Standard deviations are s^2 (X^T X)^-1, s^2 the residual variance: white-residual figures,
