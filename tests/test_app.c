@@ -299,6 +299,43 @@ static void test_no_usable_angle_leaves_the_current_correcting(void)
     TV_CHECK((out.faults & APP_FAULT_TPS_DISAGREE) != 0u);
 }
 
+/* APP_MODE_IDENT's sequence (app.h, README "Identification"): the documented levels at their
+ * documented times, the period of 30 s filled exactly (the last segment ends at 29.999 s and the
+ * sequence restarts at 30 s), never beyond the amplitude, and scaled by it. */
+static void test_ident_sequence_is_the_documented_table(void)
+{
+    const tv_real_t A = TV_R(12.0);
+    tv_real_t vmax = TV_R(0.0);
+    uint32_t t;
+    TV_CHECK_NEAR(app_ident_voltage(0u, A), 0.0, 0.0);        /* at rest */
+    TV_CHECK_NEAR(app_ident_voltage(1000u, A), 4.8, 1e-5);    /* 0.5 Hz sine, 4.8 V from 0.5 s: peak at 1 s */
+    TV_CHECK_NEAR(app_ident_voltage(12600u, A), 9.6, 1e-5);  /* +-9.6 V steps from 12.5 s (0.8f x 12) */
+    TV_CHECK_NEAR(app_ident_voltage(13100u, A), -9.6, 1e-5);
+    /* open stop levels 9, 6, 4.2, 3 V, each reached through a 100 Hz dither of 2.4 V decaying
+     * to nothing over 300 ms */
+    TV_CHECK_NEAR(app_ident_voltage(16500u, A), 11.4, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(16505u, A), 9.0 - 2.4 * 295.0 / 300.0, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(16800u, A), 9.0, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(17550u, A), 6.0, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(18300u, A), 4.2, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(19050u, A), 3.0, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(19500u, A), 0.0, 0.0);    /* spring return */
+    TV_CHECK_NEAR(app_ident_voltage(20300u, A), -9.0, 1e-5); /* closed stop levels */
+    TV_CHECK_NEAR(app_ident_voltage(22550u, A), -3.0, 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(23000u, A), 0.0, 0.0);
+    /* the last segment: 2 cycles of a 4.2 V sine over 6.5 s, from 23.5 s to the end of the period */
+    TV_CHECK_NEAR(app_ident_voltage(23500u + 1625u / 2u, A), 4.2 * sin(2.0 * 3.14159265358979 * 2.0 * 812.0 / 6500.0), 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(29999u, A), 4.2 * sin(2.0 * 3.14159265358979 * 2.0 * 6499.0 / 6500.0), 1e-5);
+    TV_CHECK_NEAR(app_ident_voltage(APP_IDENT_PERIOD_MS, A), 0.0, 0.0);
+    for (t = 0; t < APP_IDENT_PERIOD_MS; ++t) {
+        const tv_real_t v = app_ident_voltage(t, A);
+        vmax = TV_FABS(v) > vmax ? TV_FABS(v) : vmax;
+        TV_CHECK_NEAR(app_ident_voltage(t + APP_IDENT_PERIOD_MS, A), v, 0.0);
+        TV_CHECK_NEAR(app_ident_voltage(t, TV_R(6.0)), 0.5 * (double)v, 1e-5);
+    }
+    TV_CHECK_NEAR(vmax, 12.0, 1e-5);
+}
+
 int main(void)
 {
     TV_TEST_RUN(test_gap_is_predicted_across_one_period_at_a_time);
@@ -309,5 +346,6 @@ int main(void)
     TV_TEST_RUN(test_current_at_rail_leaves_the_angle_correcting);
     TV_TEST_RUN(test_one_lost_track_continues_on_the_other);
     TV_TEST_RUN(test_no_usable_angle_leaves_the_current_correcting);
+    TV_TEST_RUN(test_ident_sequence_is_the_documented_table);
     return tv_test_summary();
 }

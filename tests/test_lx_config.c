@@ -115,6 +115,9 @@ static void test_values_stored(void)
     TV_CHECK_EQ_INT(app.control.mode, APP_MODE_POSITION);
     TV_CHECK_NEAR(app.control.target_rad, -0.05, 1e-6);
     TV_CHECK_NEAR(app.calib.tps1_rad_per_count, 5e-4, 1e-9);
+    /* the identification excitation by name (README "Identification") */
+    TV_CHECK_EQ_INT(parse_with("app.mode = ident\n", &cfg, err, sizeof err), TV_OK);
+    TV_CHECK_EQ_INT(cfg.app_mode, APP_MODE_IDENT);
 }
 
 /* Syntax errors: the message names the file, the line and what is wrong. */
@@ -303,6 +306,54 @@ static void test_shared_keys_have_one_range(void)
     TV_CHECK_LE(7.0, (double)shared); /* the seven calib.* keys at least */
 }
 
+/* The model keys of a parameter file written by identify (its comment lines included) set the
+ * application's model, and Q follows it; keys not given keep the defaults. */
+static void test_identified_model_keys_applied(void)
+{
+    static lx_config_t cfg;
+    app_config_t app;
+    app_config_t def;
+    app_t a;
+    ekf_config_t e;
+    char err[LX_ERR_LEN];
+    const char *extra = "# Parameter file written by identify from unit.bin\n"
+                        "model.R_ohm = 1.61    # identified, sigma 4.6e-05 ohm\n"
+                        "# model.L_H: not identified (too little excitation): the default is kept\n"
+                        "model.Kt_Nm_A = 0.0112\n"
+                        "model.Ke_V_s_rad = 0.0112\n"
+                        "model.J_kg_m2 = 0.0012\n"
+                        "model.Mc_Nm = 0.15\n"
+                        "model.Ms_Nm = 0.22\n"
+                        "model.phi_closed_rad = -0.08\n"
+                        "model.phi_open_rad = 1.42\n"
+                        "model.stop_exponent = 1.25\n"
+                        "model.k_stop_Nm_rad = 5000\n"
+                        "model.d_stop_Nm_s_rad = 800\n";
+    TV_CHECK_EQ_INT(parse_with(extra, &cfg, err, sizeof err), TV_OK);
+    app_config_default(&app);
+    app_config_default(&def);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK_NEAR(app.model.R_ohm, 1.61, 1e-12);
+    TV_CHECK_NEAR(app.model.Kt_Nm_A, 0.0112, 1e-12);
+    TV_CHECK_NEAR(app.model.J_kg_m2, 0.0012, 1e-12);
+    TV_CHECK_NEAR(app.model.Ms_Nm, 0.22, 1e-12);
+    TV_CHECK_NEAR(app.model.phi_open_rad, 1.42, 1e-12);
+    TV_CHECK_NEAR(app.model.stop_exponent, 1.25, 1e-12);
+    TV_CHECK_NEAR(app.model.L_H, def.model.L_H, 0.0);   /* not given: the default */
+    TV_CHECK_NEAR(app.model.c_Nm_rad, def.model.c_Nm_rad, 0.0);
+    /* Q is the one the densities give for the new model (ekf_q_from_spectral, as params.h does) */
+    e = def.ekf;
+    TV_CHECK_EQ_INT(ekf_q_from_spectral(&app.model, EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S, e.Q), TV_OK);
+    TV_CHECK_NEAR(app.ekf.Q[1][1], e.Q[1][1], 0.0);
+    TV_CHECK(app.ekf.Q[1][1] != def.ekf.Q[1][1]); /* J changed */
+    TV_CHECK_EQ_INT(app_init(&a, &app), TV_OK);
+    /* the defaults of a configuration without model keys leave the model alone */
+    TV_CHECK_EQ_INT(parse_with("", &cfg, err, sizeof err), TV_OK);
+    app_config_default(&app);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK(memcmp(&app.model, &def.model, sizeof app.model) == 0);
+}
+
 int main(int argc, char **argv)
 {
     s_example_path = argc > 1 ? argv[1] : "firmware/linux_rt/throttle_linux.conf";
@@ -314,5 +365,6 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_conflicts_named);
     TV_TEST_RUN(test_file_errors_named);
     TV_TEST_RUN(test_shared_keys_have_one_range);
+    TV_TEST_RUN(test_identified_model_keys_applied);
     return tv_test_summary();
 }

@@ -74,7 +74,7 @@ if ((${#srcs[@]} == 0)); then mapfile -t srcs < <(ls firmware/*/*.c hal/*/*.c ho
 mapfile -t m4f_srcs < <(printf '%s\n' "${srcs[@]}" | grep -E '^(hal/stm32f4|firmware/ecu)/' || true)
 mapfile -t srcs < <(printf '%s\n' "${srcs[@]}" | grep -vE '^(hal/stm32f4|firmware/ecu)/')
 incs=(-Ifirmware/common -Ifirmware/estimator -Ifirmware/app -Ifirmware/protocols -Ifirmware/params -Ifirmware/linux_rt -Ihal
-  -Ihal/linux -Ihost_sim/plant -Ihost_sim/sim -Ihost_sim/replay -Ihost_sim/can_host)
+  -Ihal/linux -Ihost_sim/plant -Ihost_sim/sim -Ihost_sim/replay -Ihost_sim/can_host -Ihost_sim/identify)
 cppcheck --std=c99 --enable=warning,style,performance,portability --error-exitcode=1 --inline-suppr \
   --quiet "${incs[@]}" "${srcs[@]}"
 run_tidy "${srcs[@]}" -- -std=c99 "${incs[@]}"

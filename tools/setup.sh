@@ -6,6 +6,7 @@ set -euo pipefail
 PKGS=(
   cmake make gcc g++                     # host build
   libeigen3-dev                          # C++ reference EKF with AutoDiff Jacobians (tests only)
+  libgsl-dev                             # identify: least squares with covariance, Brent minimiser
   python3-numpy python3-matplotlib       # tools/: plots and log conversion
   valgrind                               # callgrind instruction counts (benchmarks)
   gcc-arm-none-eabi libnewlib-arm-none-eabi  # Cortex-M4F cross build

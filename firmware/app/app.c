@@ -93,7 +93,7 @@ static int check_control(const app_control_t *c)
     if (!finite_all(v, sizeof v / sizeof v[0])) {
         return TV_ERR_NONFINITE;
     }
-    if ((unsigned)c->mode > (unsigned)APP_MODE_STOP_LEARN || c->amplitude_V < TV_R(0.0) ||
+    if ((unsigned)c->mode > (unsigned)APP_MODE_IDENT || c->amplitude_V < TV_R(0.0) ||
         c->freq_Hz < TV_R(0.0) || c->chirp_f1_Hz < TV_R(0.0) || !(c->chirp_period_s > TV_R(0.0)) ||
         c->target_margin_rad < TV_R(0.0) || c->kp_V_rad < TV_R(0.0) || c->ki_V_rad_s < TV_R(0.0) ||
         c->kd_V_s_rad < TV_R(0.0) || c->i_limit_V < TV_R(0.0) || !(c->duty_limit > TV_R(0.0)) ||
@@ -331,6 +331,75 @@ static tv_real_t time_in_period_s(uint64_t elapsed_us, tv_real_t period_s)
     return (tv_real_t)(elapsed_us % period_us) * TV_R(1e-6);
 }
 
+/* The APP_MODE_IDENT sequence (app.h): segments of a fixed table, voltages as fractions of the
+ * amplitude. Sines and squares run a whole number of cycles per segment, so every segment starts
+ * and ends at its offset (no jump but the designed ones). */
+typedef enum { IDENT_CONST = 0, IDENT_SINE, IDENT_SQUARE, IDENT_SETTLE } ident_kind_t;
+typedef struct {
+    uint32_t dur_ms;   /* segment length [ms] */
+    uint8_t kind;      /* ident_kind_t */
+    uint8_t cycles;    /* sine / square cycles over the segment */
+    float level;       /* constant level (IDENT_CONST, IDENT_SETTLE) or amplitude, fraction of amplitude_V */
+} ident_seg_t;
+
+/* IDENT_SETTLE: a constant level, reached through a 100 Hz square dither that decays linearly
+ * from IDENT_SETTLE_FRAC x amplitude_V to nothing over the first IDENT_SETTLE_MS: 2.4 V at 12 V,
+ * above either class's static friction in torque (0.38 and 0.66 N m). The plate is shaken free of
+ * the friction its arrival left and comes to rest where the stop balances the push (as stop
+ * learning settles). The highest level, 0.75, plus the dither stays within the amplitude: a
+ * dither the duty limit clips leaves friction behind (measured 0.8 Mc at a 1.0 level). */
+#define IDENT_SETTLE_FRAC 0.2f
+#define IDENT_SETTLE_MS 300u
+
+static const ident_seg_t s_ident[] = {
+    {500u, IDENT_CONST, 0u, 0.0f},    /* at rest at limp-home: the current's zero */
+    {4000u, IDENT_SINE, 2u, 0.40f},   /* 0.5 Hz, 4.8 V: slow swings, breakaway from limp-home, reversals */
+    {4000u, IDENT_SINE, 4u, 0.65f},   /* 1 Hz, 7.8 V */
+    {2000u, IDENT_SINE, 5u, 1.0f},    /* 2.5 Hz, 12 V: fast travel, inertia */
+    {2000u, IDENT_SINE, 10u, 1.0f},   /* 5 Hz, 12 V (the paper's sine) */
+    {4000u, IDENT_SQUARE, 4u, 0.8f},  /* +-9.6 V steps at 1 Hz: accelerations, dwells at both stops */
+    /* open stop, unloaded in four levels, each settled by a decaying dither: contact law, stop
+     * angle, R at stall */
+    {750u, IDENT_SETTLE, 0u, 0.75f},
+    {750u, IDENT_SETTLE, 0u, 0.5f},
+    {750u, IDENT_SETTLE, 0u, 0.35f},
+    {750u, IDENT_SETTLE, 0u, 0.25f},
+    {500u, IDENT_CONST, 0u, 0.0f},    /* spring return */
+    {750u, IDENT_SETTLE, 0u, -0.75f},   /* closed stop, the same four levels */
+    {750u, IDENT_SETTLE, 0u, -0.5f},
+    {750u, IDENT_SETTLE, 0u, -0.35f},
+    {750u, IDENT_SETTLE, 0u, -0.25f},
+    {500u, IDENT_CONST, 0u, 0.0f},
+    {6500u, IDENT_SINE, 2u, 0.35f},   /* 0.31 Hz, 4.2 V: slow motion, low-speed reversals */
+};
+#define IDENT_NSEG (sizeof s_ident / sizeof s_ident[0])
+
+tv_real_t app_ident_voltage(uint32_t t_ms, tv_real_t amplitude_V)
+{
+    uint32_t t = t_ms % APP_IDENT_PERIOD_MS;
+    size_t k;
+    for (k = 0; k < IDENT_NSEG; ++k) { /* bounded: the table's length */
+        const ident_seg_t *g = &s_ident[k];
+        if (t < g->dur_ms) {
+            const tv_real_t a = (tv_real_t)g->level * amplitude_V;
+            if (g->kind == (uint8_t)IDENT_SINE) {
+                return a * app_sin(TV_R(2.0) * APP_PI * (tv_real_t)(t * g->cycles) / (tv_real_t)g->dur_ms);
+            }
+            if (g->kind == (uint8_t)IDENT_SQUARE) {
+                return ((t * 2u * g->cycles) / g->dur_ms) % 2u == 0u ? a : -a;
+            }
+            if (g->kind == (uint8_t)IDENT_SETTLE && t < IDENT_SETTLE_MS) {
+                const tv_real_t dv = (tv_real_t)IDENT_SETTLE_FRAC * amplitude_V *
+                                     (tv_real_t)(IDENT_SETTLE_MS - t) / (tv_real_t)IDENT_SETTLE_MS;
+                return (t / 5u) % 2u == 0u ? a + dv : a - dv; /* 5 ms half periods: 100 Hz */
+            }
+            return a;
+        }
+        t -= g->dur_ms;
+    }
+    return TV_R(0.0); /* not reached: the table fills the period (test_app checks the sum) */
+}
+
 /* Voltage command of the active mode, elapsed_us [us] after the start. */
 static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
 {
@@ -408,6 +477,8 @@ static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
         }
         return u;
     }
+    case APP_MODE_IDENT:
+        return app_ident_voltage((uint32_t)((elapsed_us / 1000u) % APP_IDENT_PERIOD_MS), c->amplitude_V);
     case APP_MODE_OFF:
     default:
         return TV_R(0.0);

@@ -61,8 +61,23 @@ typedef enum {
      * APP_MODE_OFF. A failed routine learns nothing and also returns to APP_MODE_OFF;
      * app_stop_learn() reports either.
      */
-    APP_MODE_STOP_LEARN = 6
+    APP_MODE_STOP_LEARN = 6,
+    /**
+     * Open-loop identification excitation (README "Identification"): a fixed, deterministic
+     * voltage sequence of APP_IDENT_PERIOD_MS (30 s), repeating, with its voltages scaled by
+     * amplitude_V / 12 V (the table is written for amplitude_V = 12 V): slow and fast swings over
+     * the whole travel both ways (sines at 0.5, 1, 2.5 and 5 Hz), voltage steps with dwells against
+     * both stops, each stop held at four decreasing voltages (0.75, 0.5, 0.35, 0.25 x the
+     * amplitude), each reached through a decaying 100 Hz dither that shakes the friction off
+     * (contact law, stop angles, R at stall; level and dither stay within the amplitude, so a
+     * 12 V sequence fits a 12.5 V supply), and a slow sine for low-speed reversals. What `identify` needs from a log
+     * (host_sim/identify/). app_ident_voltage() gives the sequence itself.
+     */
+    APP_MODE_IDENT = 7
 } app_mode_t;
+
+/** Length of the APP_MODE_IDENT sequence [ms]; it repeats after this. */
+#define APP_IDENT_PERIOD_MS 30000u
 
 /** Fault flags (bit mask, latched). */
 enum {
@@ -279,6 +294,13 @@ void app_outputs_forced_off(app_t *app);
  * after it are predicted with the bridge open.
  */
 void app_sample_missed(app_t *app);
+
+/**
+ * The APP_MODE_IDENT voltage [V] at t_ms milliseconds into the sequence (taken modulo
+ * APP_IDENT_PERIOD_MS), for an amplitude of amplitude_V (12 V: the table as written). Pure,
+ * bounded (one pass over a table of fixed length).
+ */
+tv_real_t app_ident_voltage(uint32_t t_ms, tv_real_t amplitude_V);
 
 #ifdef __cplusplus
 }

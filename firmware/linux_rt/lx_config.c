@@ -5,6 +5,8 @@
 #include "lx_config.h"
 
 #include <errno.h>
+#include <math.h>
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -65,7 +67,7 @@ static const key_desc_t s_keys[] = {
     NUM("can.period_ms.cmd_stats", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_CMD_STATS], 0),
     NUM("can.period_ms.ekf_stats", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_EKF_STATS], 0),
     NUM("can.period_ms.time", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_TIME], 0),
-    NUM("app.mode", K_MODE, 0, 4, app_mode, 0),
+    NUM("app.mode", K_MODE, 0, 7, app_mode, 0),
     /* the ranges of the command frames (can_proto.h), so a configuration can be commanded */
     NUM("app.amplitude_V", K_DOUBLE, 0, 24, app_amplitude_V, 0),
     NUM("app.freq_Hz", K_DOUBLE, 0, 200, app_freq_Hz, 0),
@@ -80,7 +82,50 @@ static const key_desc_t s_keys[] = {
     NUM("calib.tps2_counts_at_zero", K_DOUBLE, -65535, 65535, calib_tps2_counts_at_zero, 0),
     NUM("calib.tps2_rad_per_count", K_DOUBLE, -1, -1e-9, calib_tps2_rad_per_count, 0),
     NUM("calib.supply_V_per_count", K_DOUBLE, 1e-9, 1, calib_supply_V_per_count, 0),
+    /* the model keys identify writes; ranges those of tv_param_table.c (an open bound 0 as 1e-9) */
+    NUM("model.R_ohm", K_DOUBLE, 1e-9, 1000, model_R_ohm, 0),
+    NUM("model.L_H", K_DOUBLE, 1e-9, 10, model_L_H, 0),
+    NUM("model.Ke_V_s_rad", K_DOUBLE, 0, 10, model_Ke_V_s_rad, 0),
+    NUM("model.Kt_Nm_A", K_DOUBLE, 0, 10, model_Kt_Nm_A, 0),
+    NUM("model.J_kg_m2", K_DOUBLE, 1e-9, 10, model_J_kg_m2, 0),
+    NUM("model.n_gear", K_DOUBLE, 1e-9, 1000, model_n_gear, 0),
+    NUM("model.Mc_Nm", K_DOUBLE, 0, 100, model_Mc_Nm, 0),
+    NUM("model.M0_Nm", K_DOUBLE, 0, 100, model_M0_Nm, 0),
+    NUM("model.c_Nm_rad", K_DOUBLE, 0, 1000, model_c_Nm_rad, 0),
+    NUM("model.Kv_Nm_s_rad", K_DOUBLE, 0, 100, model_Kv_Nm_s_rad, 0),
+    NUM("model.Ms_Nm", K_DOUBLE, 0, 100, model_Ms_Nm, 0),
+    NUM("model.ws_rad_s", K_DOUBLE, 1e-9, 1000, model_ws_rad_s, 0),
+    NUM("model.phi_closed_rad", K_DOUBLE, -1, -1e-9, model_phi_closed_rad, 0),
+    NUM("model.phi_open_rad", K_DOUBLE, 1e-9, 2.5, model_phi_open_rad, 0),
+    NUM("model.k_stop_Nm_rad", K_DOUBLE, 0, 1e7, model_k_stop_Nm_rad, 0),
+    NUM("model.d_stop_Nm_s_rad", K_DOUBLE, 0, 1e7, model_d_stop_Nm_s_rad, 0),
+    NUM("model.stop_exponent", K_DOUBLE, 0, 3, model_stop_exponent, 0),
 };
+
+/* The model keys: where each goes in lx_config_t and in tvm_params_t. */
+static const struct {
+    size_t lx;
+    size_t model;
+} s_model_keys[] = {
+    {OFF(model_R_ohm), offsetof(tvm_params_t, R_ohm)},
+    {OFF(model_L_H), offsetof(tvm_params_t, L_H)},
+    {OFF(model_Ke_V_s_rad), offsetof(tvm_params_t, Ke_V_s_rad)},
+    {OFF(model_Kt_Nm_A), offsetof(tvm_params_t, Kt_Nm_A)},
+    {OFF(model_J_kg_m2), offsetof(tvm_params_t, J_kg_m2)},
+    {OFF(model_n_gear), offsetof(tvm_params_t, n_gear)},
+    {OFF(model_Mc_Nm), offsetof(tvm_params_t, Mc_Nm)},
+    {OFF(model_M0_Nm), offsetof(tvm_params_t, M0_Nm)},
+    {OFF(model_c_Nm_rad), offsetof(tvm_params_t, c_Nm_rad)},
+    {OFF(model_Kv_Nm_s_rad), offsetof(tvm_params_t, Kv_Nm_s_rad)},
+    {OFF(model_Ms_Nm), offsetof(tvm_params_t, Ms_Nm)},
+    {OFF(model_ws_rad_s), offsetof(tvm_params_t, ws_rad_s)},
+    {OFF(model_phi_closed_rad), offsetof(tvm_params_t, phi_closed_rad)},
+    {OFF(model_phi_open_rad), offsetof(tvm_params_t, phi_open_rad)},
+    {OFF(model_k_stop_Nm_rad), offsetof(tvm_params_t, k_stop_Nm_rad)},
+    {OFF(model_d_stop_Nm_s_rad), offsetof(tvm_params_t, d_stop_Nm_s_rad)},
+    {OFF(model_stop_exponent), offsetof(tvm_params_t, stop_exponent)},
+};
+#define N_MODEL_KEYS (sizeof s_model_keys / sizeof s_model_keys[0])
 
 #define N_KEYS (sizeof s_keys / sizeof s_keys[0])
 /* Longest line accepted [bytes]. */
@@ -88,7 +133,12 @@ static const key_desc_t s_keys[] = {
 /* Largest file read by lx_config_load() [bytes]. */
 #define FILE_MAX_LEN ((size_t)64 * 1024u)
 
-static const char *const s_modes[] = {"off", "sine", "steps", "chirp", "position"};
+/* The modes a configuration can start in, by name. */
+static const struct {
+    const char *name;
+    app_mode_t mode;
+} s_modes[] = {{"off", APP_MODE_OFF},     {"sine", APP_MODE_SINE},         {"steps", APP_MODE_STEPS},
+               {"chirp", APP_MODE_CHIRP}, {"position", APP_MODE_POSITION}, {"ident", APP_MODE_IDENT}};
 
 void lx_config_default(lx_config_t *cfg)
 {
@@ -127,6 +177,13 @@ void lx_config_default(lx_config_t *cfg)
     cfg->calib_tps2_counts_at_zero = (double)c.tps2_counts_at_zero;
     cfg->calib_tps2_rad_per_count = (double)c.tps2_rad_per_count;
     cfg->calib_supply_V_per_count = (double)c.supply_V_per_count;
+    {
+        size_t k;
+        for (k = 0; k < N_MODEL_KEYS; ++k) { /* not given: the application's default */
+            const double nan_v = (double)NAN;
+            memcpy((char *)cfg + s_model_keys[k].lx, &nan_v, sizeof nan_v);
+        }
+    }
 }
 
 static char *trim(char *s)
@@ -164,13 +221,13 @@ static int store(const key_desc_t *k, const char *v, lx_config_t *cfg, const cha
     if (k->type == K_MODE) {
         size_t i;
         for (i = 0; i < sizeof s_modes / sizeof s_modes[0]; ++i) {
-            if (strcmp(v, s_modes[i]) == 0) {
-                int32_t m = (int32_t)i;
+            if (strcmp(v, s_modes[i].name) == 0) {
+                int32_t m = (int32_t)s_modes[i].mode;
                 memcpy(base, &m, sizeof m);
                 return TV_OK;
             }
         }
-        *why = "not one of off, sine, steps, chirp, position";
+        *why = "not one of off, sine, steps, chirp, position, ident";
         return TV_ERR_FORMAT;
     }
     if (k->type == K_BOOL) {
@@ -431,4 +488,22 @@ void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
     app->calib.tps2_rad_per_count = (tv_real_t)cfg->calib_tps2_rad_per_count;
     app->calib.supply_V_per_count = (tv_real_t)cfg->calib_supply_V_per_count;
     app->calib.adc_max_counts = (uint16_t)cfg->dev.adc_max_counts;
+    {
+        /* the model keys given; Q follows the model, as in a parameter file (params.h) */
+        size_t k;
+        int any = 0;
+        for (k = 0; k < N_MODEL_KEYS; ++k) {
+            double v;
+            memcpy(&v, (const char *)cfg + s_model_keys[k].lx, sizeof v);
+            if (!isnan(v)) {
+                const tv_real_t r = (tv_real_t)v;
+                memcpy((char *)&app->model + s_model_keys[k].model, &r, sizeof r);
+                any = 1;
+            }
+        }
+        if (any) {
+            /* an invalid model fails here and again, with its status, in app_init() */
+            (void)ekf_q_from_spectral(&app->model, EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S, app->ekf.Q);
+        }
+    }
 }

@@ -42,7 +42,7 @@ typedef struct {
     /* CAN protocol */
     can_proto_config_t can;       /**< can.cmd_timeout_ms, can.max_counter_delta, can.period_ms.* */
     /* start-up control (commands override it at run time) */
-    int32_t app_mode;             /**< app.mode: off, sine, steps, chirp, position (app_mode_t) */
+    int32_t app_mode;             /**< app.mode: off, sine, steps, chirp, position, ident (app_mode_t) */
     double app_amplitude_V;       /**< app.amplitude_V */
     double app_freq_Hz;           /**< app.freq_Hz */
     double app_chirp_f1_Hz;       /**< app.chirp_f1_Hz */
@@ -57,6 +57,25 @@ typedef struct {
     double calib_tps2_counts_at_zero;   /**< calib.tps2_counts_at_zero */
     double calib_tps2_rad_per_count;    /**< calib.tps2_rad_per_count */
     double calib_supply_V_per_count;    /**< calib.supply_V_per_count */
+    /* the estimator's model (tv_model.h): the keys of a parameter file that identify writes
+     * (host_sim/identify/); NaN = not given, the application's default stays */
+    double model_R_ohm;           /**< model.R_ohm */
+    double model_L_H;             /**< model.L_H */
+    double model_Ke_V_s_rad;      /**< model.Ke_V_s_rad */
+    double model_Kt_Nm_A;         /**< model.Kt_Nm_A */
+    double model_J_kg_m2;         /**< model.J_kg_m2 */
+    double model_n_gear;          /**< model.n_gear */
+    double model_Mc_Nm;           /**< model.Mc_Nm */
+    double model_M0_Nm;           /**< model.M0_Nm */
+    double model_c_Nm_rad;        /**< model.c_Nm_rad */
+    double model_Kv_Nm_s_rad;     /**< model.Kv_Nm_s_rad */
+    double model_Ms_Nm;           /**< model.Ms_Nm */
+    double model_ws_rad_s;        /**< model.ws_rad_s */
+    double model_phi_closed_rad;  /**< model.phi_closed_rad */
+    double model_phi_open_rad;    /**< model.phi_open_rad */
+    double model_k_stop_Nm_rad;   /**< model.k_stop_Nm_rad */
+    double model_d_stop_Nm_s_rad; /**< model.d_stop_Nm_s_rad */
+    double model_stop_exponent;   /**< model.stop_exponent */
 } lx_config_t;
 
 /** Fill *cfg with every default (required keys empty / zero). */

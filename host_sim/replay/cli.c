@@ -182,3 +182,35 @@ int cli_make_dirs(const char *dir)
     }
     return 0;
 }
+
+int cli_refuse_output_is_input(const char *prog, const char *in_path, const char *out_path)
+{
+    if (!cli_same_file(in_path, out_path)) {
+        return 0;
+    }
+    fprintf(stderr, "%s: the output %s is the input log %s: refusing to overwrite it\n", prog, out_path, in_path);
+    return 1;
+}
+
+FILE *cli_open_input(const char *prog, const char **path)
+{
+    FILE *in;
+    if (*path == NULL || strcmp(*path, "-") == 0) {
+        *path = "<stdin>";
+        return stdin;
+    }
+    in = fopen(*path, "rb");
+    if (in == NULL) {
+        fprintf(stderr, "%s: cannot open %s: %s\n", prog, *path, strerror(errno));
+    }
+    return in;
+}
+
+int cli_on_error(const char *prog, const char *a, const char *v, int *skip)
+{
+    if (strcmp(v, "stop") == 0 || strcmp(v, "skip") == 0) {
+        *skip = strcmp(v, "skip") == 0;
+        return 0;
+    }
+    return cli_usage_error(prog, "option %s: '%s' is not stop or skip", a, v);
+}

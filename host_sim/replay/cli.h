@@ -8,6 +8,7 @@
 #define CLI_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -97,6 +98,26 @@ int cli_noise_set(const char *prog, cli_noise_overrides_t *ov, const char *a, co
  * @return 1 when out_path names the input file, else 0
  */
 int cli_same_file(const char *in_path, const char *out_path);
+
+/**
+ * cli_same_file() with the message: print "PROG: the output OUT is the input log IN: refusing to
+ * overwrite it" when out_path names the input.
+ * @return 1 when it does (the tool exits with CLI_EXIT_USAGE), else 0
+ */
+int cli_refuse_output_is_input(const char *prog, const char *in_path, const char *out_path);
+
+/**
+ * Open the input log: NULL or "-" is standard input (*path becomes "<stdin>"), any other path is
+ * opened for binary reading; on failure "PROG: cannot open PATH: reason" is printed.
+ * @return the stream (the caller closes it unless it is stdin), or NULL after the message
+ */
+FILE *cli_open_input(const char *prog, const char **path);
+
+/**
+ * Parse the value v of --on-error (option name a): "stop" sets *skip to 0, "skip" to 1.
+ * @return 0; or CLI_EXIT_USAGE after a one-line usage error naming the value
+ */
+int cli_on_error(const char *prog, const char *a, const char *v, int *skip);
 
 #ifdef __cplusplus
 }

@@ -97,30 +97,20 @@ int main(int argc, char **argv)
             }
             block_records = (unsigned long)n;
         } else if (strcmp(a, "--on-error") == 0) {
-            if (strcmp(v, "stop") == 0 || strcmp(v, "skip") == 0) {
-                skip = strcmp(v, "skip") == 0;
-            } else {
-                return usage_error("option %s: '%s' is not stop or skip", a, v);
+            if (cli_on_error(s_prog, a, v, &skip) != 0) {
+                return CLI_EXIT_USAGE;
             }
         } else {
             out_path = v;
         }
     }
 
-    if (cli_same_file(in_path, out_path)) {
-        fprintf(stderr, "%s: the output %s is the input log %s: refusing to overwrite it\n", s_prog, out_path,
-                in_path);
+    if (cli_refuse_output_is_input(s_prog, in_path, out_path)) {
         return RLR_EXIT_USAGE;
     }
-    if (in_path == NULL || strcmp(in_path, "-") == 0) {
-        in = stdin;
-        in_path = "<stdin>";
-    } else {
-        in = fopen(in_path, "rb");
-        if (in == NULL) {
-            fprintf(stderr, "%s: cannot open %s: %s\n", s_prog, in_path, strerror(errno));
-            return RLR_EXIT_IO;
-        }
+    in = cli_open_input(s_prog, &in_path);
+    if (in == NULL) {
+        return RLR_EXIT_IO;
     }
     rc = rlr_open_file(&s_reader, in, in_path, from, 0u);
     if (rc != TV_OK) {

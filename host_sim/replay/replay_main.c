@@ -143,12 +143,8 @@ int main(int argc, char **argv)
                 return usage_error("option %s: '%s' is not 2 or 3", a, v);
             }
         } else if (strcmp(a, "--on-error") == 0) {
-            if (strcmp(v, "stop") == 0) {
-                opt.skip_errors = 0;
-            } else if (strcmp(v, "skip") == 0) {
-                opt.skip_errors = 1;
-            } else {
-                return usage_error("option %s: '%s' is not stop or skip", a, v);
+            if (cli_on_error(s_prog, a, v, &opt.skip_errors) != 0) {
+                return CLI_EXIT_USAGE;
             }
         } else if (cli_noise_index(a) >= 0) {
             rc = cli_noise_set(s_prog, &ov, a, v);
@@ -216,20 +212,12 @@ int main(int argc, char **argv)
         }
     }
 
-    if (!opt.parse_only && cli_same_file(in_path, out_path)) {
-        fprintf(stderr, "%s: the output %s is the input log %s: refusing to overwrite it\n", s_prog, out_path,
-                in_path);
+    if (!opt.parse_only && cli_refuse_output_is_input(s_prog, in_path, out_path)) {
         return RLR_EXIT_USAGE;
     }
-    if (in_path == NULL || strcmp(in_path, "-") == 0) {
-        in = stdin;
-        in_path = "<stdin>";
-    } else {
-        in = fopen(in_path, "rb");
-        if (in == NULL) {
-            fprintf(stderr, "%s: cannot open %s: %s\n", s_prog, in_path, strerror(errno));
-            return RLR_EXIT_IO;
-        }
+    in = cli_open_input(s_prog, &in_path);
+    if (in == NULL) {
+        return RLR_EXIT_IO;
     }
     if (!opt.parse_only) {
         if (out_path == NULL || strcmp(out_path, "-") == 0) {

@@ -164,7 +164,7 @@ static void usage(FILE *f)
             "                    tools/tune_noise.py trains on 1001 ..)\n"
             "  --first-unit ID   first unit ID (default %u: the evaluation set; IDs below it are\n"
             "                    the training set of tools/tune_noise.py)\n"
-            "  --scenarios LIST  comma-separated (default: all but stuck_release):",
+            "  --scenarios LIST  comma-separated (default: all but stuck_release and ident):",
             s_prog, POP_PLANTS_MAX, POP_SEEDS_MAX, POP_FIRST_EVAL_UNIT);
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
         if (k != (int)SIM_SCN_STOP_LEARN) {
@@ -315,7 +315,8 @@ int main(int argc, char **argv)
     int stop_learning = 1;
 
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
-        use_scn[k] = k != (int)SIM_SCN_STUCK_RELEASE && k != (int)SIM_SCN_STOP_LEARN;
+        /* ident (30 s, identify's excitation) only on request */
+        use_scn[k] = k != (int)SIM_SCN_STUCK_RELEASE && k != (int)SIM_SCN_STOP_LEARN && k != (int)SIM_SCN_IDENT;
     }
     for (k = 0; k < POP_NSEC; ++k) {
         s_learn[k].err_closed_max = s_learn[k].err_open_max = s_learn[k].speed_max = s_learn[k].time_max_s = (double)NAN;

@@ -102,6 +102,9 @@ typedef enum {
     /** APP_MODE_STOP_LEARN (stop_learn.h): the start-up routine learns both stops, then the
      *  bridge is off; 12 s. sim_result_t::stop_learn_* report it against the plant's stops. */
     SIM_SCN_STOP_LEARN,
+    /** APP_MODE_IDENT at 12 V: the identification excitation (app.h), one 30 s sequence; the log
+     *  that `identify` reads (host_sim/identify/) */
+    SIM_SCN_IDENT,
     SIM_SCN_COUNT /**< number of scenarios (not a scenario) */
 } sim_scenario_t;
 

@@ -17,8 +17,8 @@
 
 static const char *const s_scn_names[SIM_SCN_COUNT] = {"paper_sine", "closed_steps", "closed_ramp", "chirp",
                                                        "stuck_release", "slow_sine", "open_steps", "standstill",
-                                                       "limp_home", "stop_learn"};
-static const double s_scn_duration_s[SIM_SCN_COUNT] = {2.0, 2.5, 2.5, 2.0, 2.2, 4.0, 4.0, 2.0, 2.4, 12.0};
+                                                       "limp_home", "stop_learn", "ident"};
+static const double s_scn_duration_s[SIM_SCN_COUNT] = {2.0, 2.5, 2.5, 2.0, 2.2, 4.0, 4.0, 2.0, 2.4, 12.0, 30.0};
 static const char *const s_est_names[SIM_EST_COUNT] = {"app filter", "paper set-up, our map", "paper as printed",
                                                        "paper, eq.12 predict", "paper, eq.12 + exact Jac.",
                                                        "measured / differentiated"};
@@ -35,7 +35,8 @@ static const char *const s_scn_descriptions[SIM_SCN_COUNT] = {
     "open-loop +-10 V steps at 1 Hz, 4 s (dwells 0.5 s against each stop)",
     "open-loop 1.5 V / 2 Hz sine, 2 s (too small to break away from limp-home)",
     "closed loop to 0.8 rad, bridge off (spring return to limp-home), to the lowest target, off; 2.4 s",
-    "start-up stop learning (APP_MODE_STOP_LEARN): slowly into each stop, learned angles reported; 12 s"};
+    "start-up stop learning (APP_MODE_STOP_LEARN): slowly into each stop, learned angles reported; 12 s",
+    "identification excitation (APP_MODE_IDENT, 12 V): swings at 0.5-5 Hz, steps, four levels against each stop, slow sine; 30 s"};
 
 const char *sim_scenario_description(sim_scenario_t s)
 {
@@ -160,6 +161,10 @@ void sim_scenario_control0(sim_scenario_t scn, app_control_t *c)
     case SIM_SCN_STOP_LEARN:
         c->mode = APP_MODE_STOP_LEARN;
         break;
+    case SIM_SCN_IDENT:
+        c->mode = APP_MODE_IDENT;
+        c->amplitude_V = TV_R(12.0);
+        break;
     case SIM_SCN_STUCK_RELEASE:
     case SIM_SCN_COUNT:
     default:
@@ -239,6 +244,7 @@ int sim_scenario_update(sim_scenario_t scn, app_t *app, double t_s)
     case SIM_SCN_SLOW_SINE:
     case SIM_SCN_OPEN_STEPS:
     case SIM_SCN_STANDSTILL:
+    case SIM_SCN_IDENT:
     case SIM_SCN_COUNT:
     default:
         return TV_OK;

@@ -1,0 +1,1129 @@
+/**
+ * @file identify.c
+ * @brief Parameter identification from one log (see identify.h).
+ */
+#include "identify.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_min.h>
+#include <gsl/gsl_multifit.h>
+#include <gsl/gsl_sort.h>
+#include <gsl/gsl_sort_ulong.h>
+#include <gsl/gsl_statistics_double.h>
+
+#include "stop_learn.h"
+#include "tv_status.h"
+
+/** Most columns of a linear fit. */
+#define ID_LS_PMAX 6
+/** Degree of the Savitzky-Golay polynomial. */
+#define ID_SG_DEGREE 3
+/** Free motion: this far inside the travel's ends [rad] (stop contact and rebound excluded). */
+#define ID_STOP_MARGIN_RAD 0.03
+/** Free motion: this far from limp-home [rad] (the preload's sign is set-valued there). */
+#define ID_LIMP_MARGIN_RAD 0.02
+/** Free motion: slower than this [rad/s] counts as stuck (friction set-valued). */
+#define ID_W_MIN_RAD_S 0.02
+/** Rest blocks at a stop: length [samples], largest angle spread [rad] and voltage spread [V]. */
+#define ID_BLOCK 50u
+#define ID_BLOCK_SPREAD_RAD 0.002
+#define ID_BLOCK_SPREAD_V 0.3
+/** A rest block is at a stop when within this of the travel's end [rad]. */
+#define ID_BLOCK_NEAR_RAD 0.02
+/** A rest block whose push is this much below its episode's largest was reached by unloading [N m]. */
+#define ID_UNLOAD_NM 0.05
+/** Friction factor grid of the rest blocks (x Mc). */
+#define ID_FRIC_LO 0.5
+#define ID_FRIC_HI 1.3
+#define ID_FRIC_GRID 9
+/** Rest blocks whose forces differ by more than this may be different levels [N m]. */
+#define ID_LEVEL_GAP_NM 0.03
+/** A rest block was settled by a dither when the voltage swung by this much [V] within this many
+ * samples before it at the stop (APP_MODE_IDENT's settling levels). */
+#define ID_DITHER_SWING_V 1.0
+#define ID_DITHER_LOOKBACK 250u
+/** Settled rest blocks at a stop that make its other rest blocks unnecessary. */
+#define ID_SETTLED_MIN 6u
+/** The ends of the travel are these quantiles of the smoothed angle (0.5 %: 150 ms of a 30 s log). */
+#define ID_TRAVEL_QUANTILE 0.005
+/** Smallest contact force of a rest block [N m]. */
+#define ID_BLOCK_F_MIN_NM 0.05
+/** The contact law's stiffness is identified when the blocks span this range of force [N m]. */
+#define ID_STOP_F_SPAN_NM 0.2
+/** Stribeck velocity search: ln ws over [ln lo, ln hi] on a grid of ID_WS_GRID points. */
+#define ID_WS_LO 0.05
+#define ID_WS_HI 20.0
+#define ID_WS_GRID 25
+/** Exponents of the contact-law grid (1.0 .. 2.0). */
+#define ID_EXP_GRID 21
+
+static const char *const s_names[ID_P_COUNT] = {"R", "L", "nKe = nKt", "J", "M0", "c", "Mc", "Ms", "ws", "Kv",
+                                                "phi_closed", "phi_open", "k_stop", "stop_exponent"};
+static const char *const s_units[ID_P_COUNT] = {"ohm", "H", "V s/rad", "kg m^2", "N m", "N m/rad", "N m", "N m",
+                                                "rad/s", "N m s/rad", "rad", "rad", "N m/rad^e", "-"};
+
+const char *id_param_name(id_param_t p)
+{
+    return (unsigned)p < (unsigned)ID_P_COUNT ? s_names[p] : "?";
+}
+
+const char *id_param_unit(id_param_t p)
+{
+    return (unsigned)p < (unsigned)ID_P_COUNT ? s_units[p] : "?";
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Linear least squares (GSL)                                                                  */
+/* ------------------------------------------------------------------------------------------ */
+
+/** One linear fit: coefficients, covariance s^2 (X^T X)^-1, sums of squares. */
+typedef struct {
+    size_t p;                          /* columns */
+    size_t n;                          /* rows used */
+    double c[ID_LS_PMAX];              /* coefficients */
+    double cov[ID_LS_PMAX][ID_LS_PMAX]; /* their covariance */
+    double ssr;                        /* residual sum of squares */
+    double sst;                        /* total sum of squares about the mean of y */
+} ls_fit_t;
+
+/*
+ * Least squares on the rows with use[r] != 0 of X (nrows x p, row-major) and y. The covariance
+ * is (X^T X)^-1 from gsl_multifit_wlinear with unit weights (documented as exactly that),
+ * scaled by the residual variance s^2 = SSR / (n - p).
+ * @return TV_OK; TV_ERR_RANGE (fewer rows than p + 1); TV_ERR_IO (out of memory); TV_ERR_NUMERIC.
+ */
+static int ls_solve(const double *X, const double *y, const uint8_t *use, size_t nrows, size_t p, ls_fit_t *f)
+{
+    size_t n = 0;
+    size_t r;
+    double chisq = 0.0;
+    int rc = TV_OK;
+    gsl_matrix *A;
+    gsl_vector *yy;
+    gsl_vector *w;
+    gsl_vector *c;
+    gsl_matrix *cov;
+    gsl_multifit_linear_workspace *ws;
+    memset(f, 0, sizeof *f);
+    f->p = p;
+    for (r = 0; r < nrows; ++r) {
+        n += use[r] != 0u ? 1u : 0u;
+    }
+    if (n < p + 1u || p > ID_LS_PMAX) {
+        return TV_ERR_RANGE;
+    }
+    A = gsl_matrix_alloc(n, p);
+    yy = gsl_vector_alloc(n);
+    w = gsl_vector_alloc(n);
+    c = gsl_vector_alloc(p);
+    cov = gsl_matrix_alloc(p, p);
+    ws = gsl_multifit_linear_alloc(n, p);
+    if (A == NULL || yy == NULL || w == NULL || c == NULL || cov == NULL || ws == NULL) {
+        rc = TV_ERR_IO;
+    } else {
+        size_t m = 0;
+        size_t a;
+        double mean = 0.0;
+        for (r = 0; r < nrows; ++r) {
+            if (use[r] != 0u) {
+                for (a = 0; a < p; ++a) {
+                    gsl_matrix_set(A, m, a, X[r * p + a]);
+                }
+                gsl_vector_set(yy, m, y[r]);
+                mean += y[r];
+                ++m;
+            }
+        }
+        mean /= (double)n;
+        gsl_vector_set_all(w, 1.0);
+        if (gsl_multifit_wlinear(A, w, yy, c, cov, &chisq, ws) != GSL_SUCCESS) {
+            rc = TV_ERR_NUMERIC;
+        } else {
+            const double s2 = chisq / (double)(n - p);
+            size_t b;
+            f->n = n;
+            f->ssr = chisq;
+            for (a = 0; a < p; ++a) {
+                f->c[a] = gsl_vector_get(c, a);
+                for (b = 0; b < p; ++b) {
+                    f->cov[a][b] = s2 * gsl_matrix_get(cov, a, b);
+                }
+            }
+            for (r = 0; r < n; ++r) {
+                const double d = gsl_vector_get(yy, r) - mean;
+                f->sst += d * d;
+            }
+        }
+    }
+    gsl_multifit_linear_free(ws);
+    gsl_matrix_free(cov);
+    gsl_vector_free(c);
+    gsl_vector_free(w);
+    gsl_vector_free(yy);
+    gsl_matrix_free(A);
+    return rc;
+}
+
+/* Residual of row r. */
+static double ls_residual(const ls_fit_t *f, const double *X, const double *y, size_t r)
+{
+    double s = y[r];
+    size_t a;
+    for (a = 0; a < f->p; ++a) {
+        s -= f->c[a] * X[r * f->p + a];
+    }
+    return s;
+}
+
+/*
+ * Clear use[r] of the rows whose residual under f lies beyond ID_OUTLIER_SIGMA robust standard
+ * deviations (1.4826 x the median absolute residual). @return TV_OK; TV_ERR_IO (memory).
+ */
+static int ls_drop_outliers(const ls_fit_t *f, const double *X, const double *y, uint8_t *use, size_t nrows)
+{
+    double *r = (double *)malloc((f->n > 0u ? f->n : 1u) * sizeof *r);
+    size_t k;
+    size_t m = 0;
+    double lim;
+    if (r == NULL) {
+        return TV_ERR_IO;
+    }
+    for (k = 0; k < nrows; ++k) {
+        if (use[k] != 0u && m < f->n) {
+            r[m++] = fabs(ls_residual(f, X, y, k));
+        }
+    }
+    if (m == 0u) {
+        free(r);
+        return TV_OK;
+    }
+    gsl_sort(r, 1, m);
+    lim = ID_OUTLIER_SIGMA * 1.4826 * gsl_stats_median_from_sorted_data(r, 1, m);
+    free(r);
+    for (k = 0; k < nrows; ++k) {
+        if (use[k] != 0u && fabs(ls_residual(f, X, y, k)) > lim) {
+            use[k] = 0u;
+        }
+    }
+    return TV_OK;
+}
+
+/* Fit, drop outliers, fit again. */
+static int ls_solve_robust(const double *X, const double *y, uint8_t *use, size_t nrows, size_t p, ls_fit_t *f)
+{
+    int rc = ls_solve(X, y, use, nrows, p, f);
+    if (rc == TV_OK) {
+        rc = ls_drop_outliers(f, X, y, use, nrows);
+    }
+    if (rc == TV_OK) {
+        rc = ls_solve(X, y, use, nrows, p, f);
+    }
+    return rc;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* Signals                                                                                     */
+/* ------------------------------------------------------------------------------------------ */
+
+/*
+ * Savitzky-Golay coefficients of the window centre: smoothing (h0), first (h1) and second (h2)
+ * derivative per sample^k, from the least-squares polynomial of degree ID_SG_DEGREE over
+ * 2 ID_SG_HALF + 1 points: fitting the unit vector e_j gives column j of (V^T V)^-1 V^T.
+ */
+static int sg_coefficients(double h0[2 * ID_SG_HALF + 1], double h1[2 * ID_SG_HALF + 1], double h2[2 * ID_SG_HALF + 1])
+{
+    enum { NW = 2 * ID_SG_HALF + 1, P = ID_SG_DEGREE + 1 };
+    double X[NW * P];
+    double y[NW];
+    uint8_t use[NW];
+    int j;
+    int q;
+    for (j = 0; j < NW; ++j) {
+        double xp = 1.0;
+        for (q = 0; q < P; ++q) {
+            X[j * P + q] = xp;
+            xp *= (double)(j - ID_SG_HALF);
+        }
+        use[j] = 1u;
+    }
+    for (j = 0; j < NW; ++j) {
+        ls_fit_t f;
+        int rc;
+        memset(y, 0, sizeof y);
+        y[j] = 1.0;
+        rc = ls_solve(X, y, use, (size_t)NW, (size_t)P, &f);
+        if (rc != TV_OK) {
+            return rc;
+        }
+        h0[j] = f.c[0];
+        h1[j] = f.c[1];
+        h2[j] = 2.0 * f.c[2];
+    }
+    return TV_OK;
+}
+
+/* The smoothed and differentiated signals of a log. */
+typedef struct {
+    double *phi;  /* smoothed angle [rad] */
+    double *w;    /* velocity [rad/s] */
+    double *acc;  /* acceleration [rad/s^2] */
+    double *i;    /* smoothed current [A] */
+    uint8_t *win; /* 1: the whole window around the sample is usable */
+} id_sig_t;
+
+static void sig_free(id_sig_t *s)
+{
+    free(s->phi);
+    free(s->w);
+    free(s->acc);
+    free(s->i);
+    free(s->win);
+}
+
+static int sig_build(const id_data_t *d, id_sig_t *s)
+{
+    double h0[2 * ID_SG_HALF + 1];
+    double h1[2 * ID_SG_HALF + 1];
+    double h2[2 * ID_SG_HALF + 1];
+    const size_t n = d->n;
+    const size_t m = (size_t)ID_SG_HALF;
+    size_t k;
+    size_t bad = 0; /* unusable samples in the window */
+    int rc;
+    s->phi = (double *)calloc(n, sizeof(double));
+    s->w = (double *)calloc(n, sizeof(double));
+    s->acc = (double *)calloc(n, sizeof(double));
+    s->i = (double *)calloc(n, sizeof(double));
+    s->win = (uint8_t *)calloc(n, 1u);
+    if (s->phi == NULL || s->w == NULL || s->acc == NULL || s->i == NULL || s->win == NULL) {
+        return TV_ERR_IO;
+    }
+    rc = sg_coefficients(h0, h1, h2);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    for (k = 0; k < 2u * m + 1u && k < n; ++k) {
+        bad += d->ok[k] == 0u ? 1u : 0u;
+    }
+    for (k = m; k + m < n; ++k) {
+        if (k > m) { /* slide: drop k - m - 1, add k + m */
+            bad -= d->ok[k - m - 1u] == 0u ? 1u : 0u;
+            bad += d->ok[k + m] == 0u ? 1u : 0u;
+        }
+        if (bad == 0u) {
+            double a0 = 0.0;
+            double a1 = 0.0;
+            double a2 = 0.0;
+            double c0 = 0.0;
+            size_t j;
+            for (j = 0; j < 2u * m + 1u; ++j) {
+                const double p = d->phi_rad[k - m + j];
+                a0 += h0[j] * p;
+                a1 += h1[j] * p;
+                a2 += h2[j] * p;
+                c0 += h0[j] * d->i_A[k - m + j];
+            }
+            s->phi[k] = a0;
+            s->w[k] = a1 / d->Ts_s;
+            s->acc[k] = a2 / (d->Ts_s * d->Ts_s);
+            s->i[k] = c0;
+            s->win[k] = 1u;
+        }
+    }
+    return TV_OK;
+}
+
+static double sgn(double x) { return x > 0.0 ? 1.0 : (x < 0.0 ? -1.0 : 0.0); }
+
+static void mark(id_result_t *res, id_param_t p, double v, double sigma, int ok, const char *why)
+{
+    res->value[p] = v;
+    res->sigma[p] = sigma;
+    res->identified[p] = ok;
+    if (!ok) {
+        (void)snprintf(res->why[p], ID_WHY_MAX, "%s", why);
+    }
+}
+
+/* Mark p identified when its value is positive and its sigma small enough; else say why. */
+static void judge(id_result_t *res, id_param_t p, double v, double sigma)
+{
+    char why[ID_WHY_MAX];
+    if (!isfinite(v) || !isfinite(sigma)) {
+        mark(res, p, v, sigma, 0, "the fit is singular (too little excitation)");
+    } else if (!(v > 0.0)) {
+        (void)snprintf(why, sizeof why, "estimate %.4g is not positive (too little excitation)", v);
+        mark(res, p, v, sigma, 0, why);
+    } else if (sigma > ID_REL_SIGMA_MAX * v) {
+        (void)snprintf(why, sizeof why, "too little excitation: sigma is %.0f %% of the estimate", 100.0 * sigma / v);
+        mark(res, p, v, sigma, 0, why);
+    } else {
+        mark(res, p, v, sigma, 1, "");
+    }
+}
+
+/* Standard deviation of g(theta) by the delta method, central differences in each coefficient. */
+typedef double (*id_derived_fn)(const double *theta);
+
+static double delta_sigma(id_derived_fn g, const ls_fit_t *f)
+{
+    double grad[ID_LS_PMAX];
+    double th[ID_LS_PMAX];
+    double var = 0.0;
+    size_t a;
+    size_t b;
+    for (a = 0; a < f->p; ++a) {
+        const double h = 1e-6 * (fabs(f->c[a]) + 1e-12);
+        memcpy(th, f->c, sizeof th);
+        th[a] = f->c[a] + h;
+        grad[a] = g(th);
+        th[a] = f->c[a] - h;
+        grad[a] = (grad[a] - g(th)) / (2.0 * h);
+    }
+    for (a = 0; a < f->p; ++a) {
+        for (b = 0; b < f->p; ++b) {
+            var += grad[a] * f->cov[a][b] * grad[b];
+        }
+    }
+    return var >= 0.0 ? sqrt(var) : (double)NAN;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* 1. Armature                                                                                 */
+/* ------------------------------------------------------------------------------------------ */
+
+static double s_Ts; /* the period, for the derived functions of the armature fit */
+
+/* theta = (a, b, b nKe) */
+static double elec_R(const double *t) { return (1.0 - t[0]) / t[1]; }
+static double elec_L(const double *t) { return -elec_R(t) * s_Ts / log(t[0]); }
+static double elec_nKe(const double *t) { return t[2] / t[1]; }
+
+static int fit_armature(const id_data_t *d, const id_sig_t *s, id_result_t *res)
+{
+    const size_t n = d->n;
+    double *X = (double *)calloc(3u * n, sizeof(double));
+    double *y = (double *)calloc(n, sizeof(double));
+    uint8_t *use = (uint8_t *)calloc(n, 1u);
+    ls_fit_t f;
+    size_t k;
+    size_t nmove = 0;
+    int rc;
+    if (X == NULL || y == NULL || use == NULL) {
+        free(X);
+        free(y);
+        free(use);
+        return TV_ERR_IO;
+    }
+    for (k = 0; k + 1u < n; ++k) {
+        X[3u * k] = d->i_A[k];
+        X[3u * k + 1u] = d->u_V[k];
+        X[3u * k + 2u] = -0.5 * (s->w[k] + s->w[k + 1u]);
+        y[k] = d->i_A[k + 1u];
+        use[k] = s->win[k] != 0u && s->win[k + 1u] != 0u && d->ok[k + 1u] != 0u ? 1u : 0u;
+        nmove += use[k] != 0u && fabs(s->w[k]) > 0.5 ? 1u : 0u;
+    }
+    rc = ls_solve_robust(X, y, use, n - 1u, 3u, &f);
+    if (rc == TV_ERR_IO) {
+        free(X);
+        free(y);
+        free(use);
+        return rc;
+    }
+    if (rc != TV_OK || f.n < ID_MIN_SAMPLES) {
+        mark(res, ID_P_R, NAN, NAN, 0, "too few usable samples with the bridge enabled");
+        mark(res, ID_P_L, NAN, NAN, 0, "too few usable samples with the bridge enabled");
+        mark(res, ID_P_NKE, NAN, NAN, 0, "too few usable samples with the bridge enabled");
+    } else {
+        res->n_elec = f.n;
+        res->r2_elec = f.sst > 0.0 ? 1.0 - f.ssr / f.sst : (double)NAN;
+        res->rms_elec_A = sqrt(f.ssr / (double)f.n);
+        if (!(f.c[1] > 0.0) || !(f.c[0] > 0.0 && f.c[0] < 1.0)) {
+            mark(res, ID_P_R, NAN, NAN, 0, "the current does not follow the voltage (too little excitation)");
+            mark(res, ID_P_L, NAN, NAN, 0, "the current does not follow the voltage (too little excitation)");
+            mark(res, ID_P_NKE, NAN, NAN, 0, "the current does not follow the voltage (too little excitation)");
+        } else {
+            judge(res, ID_P_R, elec_R(f.c), delta_sigma(elec_R, &f));
+            judge(res, ID_P_L, elec_L(f.c), delta_sigma(elec_L, &f));
+            judge(res, ID_P_NKE, elec_nKe(f.c), delta_sigma(elec_nKe, &f));
+            if (nmove < ID_MIN_SAMPLES && res->identified[ID_P_NKE]) {
+                mark(res, ID_P_NKE, res->value[ID_P_NKE], res->sigma[ID_P_NKE], 0,
+                     "too little excitation: the plate hardly moved (back-EMF)");
+            }
+        }
+    }
+    free(X);
+    free(y);
+    free(use);
+    return TV_OK;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* 2. Plate                                                                                    */
+/* ------------------------------------------------------------------------------------------ */
+
+enum { MC_J = 0, MC_M0, MC_C, MC_MC, MC_DM, MC_KV, MC_P };
+
+/* The plate fit's rows: regressors except the Stribeck column, which depends on ws. */
+typedef struct {
+    size_t n;
+    double *X;   /* n x MC_P */
+    double *y;   /* n */
+    double *w;   /* velocity of the row */
+    uint8_t *use;
+    ls_fit_t f;
+} mech_t;
+
+static void mech_set_ws(mech_t *m, double ws)
+{
+    size_t r;
+    for (r = 0; r < m->n; ++r) {
+        m->X[r * MC_P + MC_DM] = sgn(m->w[r]) * exp(-fabs(m->w[r]) / ws);
+    }
+}
+
+/* SSR of the plate fit at ln ws = x (for Brent's method). */
+static double mech_ssr(double x, void *user)
+{
+    mech_t *m = (mech_t *)user;
+    mech_set_ws(m, exp(x));
+    if (ls_solve(m->X, m->y, m->use, m->n, MC_P, &m->f) != TV_OK) {
+        return HUGE_VAL;
+    }
+    return m->f.ssr;
+}
+
+/* Is the sample k free motion: inside the travel, away from limp-home, moving one way? */
+static int free_motion(const id_sig_t *s, size_t k, size_t n, double lo, double hi)
+{
+    const size_t m = (size_t)ID_SG_HALF;
+    int j;
+    if (k < m || k + m >= n) {
+        return 0;
+    }
+    for (j = 0; j < 3; ++j) {
+        const size_t q = k - m + (size_t)j * m; /* k - m, k, k + m */
+        if (s->win[q] == 0u || s->phi[q] < lo || s->phi[q] > hi || fabs(s->phi[q]) < ID_LIMP_MARGIN_RAD ||
+            fabs(s->w[q]) < ID_W_MIN_RAD_S || sgn(s->w[q]) != sgn(s->w[k]) || sgn(s->phi[q]) != sgn(s->phi[k])) {
+            return 0;
+        }
+    }
+    return 1;
+}
+
+static int fit_plate(const id_data_t *d, const id_sig_t *s, id_result_t *res)
+{
+    mech_t m;
+    const double nKt = res->value[ID_P_NKE];
+    const double lo = res->travel_lo_rad + ID_STOP_MARGIN_RAD;
+    const double hi = res->travel_hi_rad - ID_STOP_MARGIN_RAD;
+    size_t k;
+    size_t r = 0;
+    size_t npos = 0;
+    size_t nneg = 0;
+    size_t nlow = 0; /* rows slower than twice the Stribeck velocity found */
+    double grid[ID_WS_GRID];
+    double xbest = 0.0;
+    int ibest = 0;
+    int j;
+    int rc = TV_OK;
+    int ws_ok = 0;
+    double sigma_x = (double)NAN;
+    const id_param_t mech_params[] = {ID_P_J, ID_P_M0, ID_P_C, ID_P_MC, ID_P_MS, ID_P_WS, ID_P_KV};
+    memset(&m, 0, sizeof m);
+    m.X = (double *)malloc((size_t)MC_P * d->n * sizeof(double));
+    m.y = (double *)malloc(d->n * sizeof(double));
+    m.w = (double *)malloc(d->n * sizeof(double));
+    m.use = (uint8_t *)malloc(d->n);
+    if (m.X == NULL || m.y == NULL || m.w == NULL || m.use == NULL) {
+        rc = TV_ERR_IO;
+        goto out;
+    }
+    for (k = 0; k < d->n; ++k) {
+        if (!free_motion(s, k, d->n, lo, hi)) {
+            continue;
+        }
+        m.X[r * MC_P + MC_J] = s->acc[k];
+        m.X[r * MC_P + MC_M0] = sgn(s->phi[k]);
+        m.X[r * MC_P + MC_C] = s->phi[k];
+        m.X[r * MC_P + MC_MC] = sgn(s->w[k]);
+        m.X[r * MC_P + MC_KV] = s->w[k];
+        m.y[r] = nKt * s->i[k];
+        m.w[r] = s->w[k];
+        m.use[r] = 1u;
+        npos += s->w[k] > 0.0 ? 1u : 0u;
+        nneg += s->w[k] < 0.0 ? 1u : 0u;
+        
+        ++r;
+    }
+    m.n = r;
+    res->moved = npos >= ID_MIN_SAMPLES / 2u && nneg >= ID_MIN_SAMPLES / 2u;
+    if (!res->moved) {
+        char why[ID_WHY_MAX];
+        (void)snprintf(why, sizeof why,
+                       "too little excitation: %lu samples of free motion opening, %lu closing (%u each needed)",
+                       (unsigned long)npos, (unsigned long)nneg, ID_MIN_SAMPLES / 2u);
+        for (j = 0; j < (int)(sizeof mech_params / sizeof mech_params[0]); ++j) {
+            mark(res, mech_params[j], NAN, NAN, 0, why);
+        }
+        goto out;
+    }
+    /* outliers at ws = 1 rad/s, then ws by Brent's method on the profiled residual */
+    mech_set_ws(&m, 1.0);
+    rc = ls_solve_robust(m.X, m.y, m.use, m.n, MC_P, &m.f);
+    if (rc != TV_OK) {
+        goto out;
+    }
+    for (j = 0; j < ID_WS_GRID; ++j) {
+        const double x = log(ID_WS_LO) + (log(ID_WS_HI) - log(ID_WS_LO)) * (double)j / (double)(ID_WS_GRID - 1);
+        grid[j] = mech_ssr(x, &m);
+        if (j == 0 || grid[j] < grid[ibest]) {
+            ibest = j;
+        }
+    }
+    {
+        const double dx = (log(ID_WS_HI) - log(ID_WS_LO)) / (double)(ID_WS_GRID - 1);
+        xbest = log(ID_WS_LO) + dx * (double)ibest;
+        if (ibest > 0 && ibest < ID_WS_GRID - 1) {
+            gsl_function fn;
+            gsl_min_fminimizer *mz = gsl_min_fminimizer_alloc(gsl_min_fminimizer_brent);
+            int it;
+            if (mz == NULL) {
+                rc = TV_ERR_IO;
+                goto out;
+            }
+            fn.function = mech_ssr;
+            fn.params = &m;
+            if (gsl_min_fminimizer_set_with_values(mz, &fn, xbest, grid[ibest], xbest - dx, grid[ibest - 1], xbest + dx,
+                                                   grid[ibest + 1]) == GSL_SUCCESS) {
+                for (it = 0; it < 50; ++it) {
+                    if (gsl_min_fminimizer_iterate(mz) != GSL_SUCCESS ||
+                        gsl_min_test_interval(gsl_min_fminimizer_x_lower(mz), gsl_min_fminimizer_x_upper(mz), 1e-4,
+                                              0.0) == GSL_SUCCESS) {
+                        break;
+                    }
+                }
+                xbest = gsl_min_fminimizer_x_minimum(mz);
+                ws_ok = 1;
+            }
+            gsl_min_fminimizer_free(mz);
+        }
+    }
+    for (k = 0; k < m.n; ++k) {
+        nlow += m.use[k] != 0u && fabs(m.w[k]) < 2.0 * exp(xbest) ? 1u : 0u;
+    }
+    if (ws_ok) {
+        /* profile curvature: var(ln ws) = 2 s^2 / SSR'' */
+        const double h = 0.05;
+        const double fp = mech_ssr(xbest + h, &m);
+        const double fm = mech_ssr(xbest - h, &m);
+        const double f0 = mech_ssr(xbest, &m);
+        const double s2 = f0 / (double)(m.f.n - (size_t)MC_P - 1u);
+        const double d2 = (fp - 2.0 * f0 + fm) / (h * h);
+        sigma_x = d2 > 0.0 ? sqrt(2.0 * s2 / d2) : (double)NAN;
+    } else {
+        (void)mech_ssr(xbest, &m);
+    }
+    res->n_mech = m.f.n;
+    res->r2_mech = m.f.sst > 0.0 ? 1.0 - m.f.ssr / m.f.sst : (double)NAN;
+    res->rms_mech_Nm = sqrt(m.f.ssr / (double)m.f.n);
+    judge(res, ID_P_J, m.f.c[MC_J], sqrt(m.f.cov[MC_J][MC_J]));
+    judge(res, ID_P_M0, m.f.c[MC_M0], sqrt(m.f.cov[MC_M0][MC_M0]));
+    judge(res, ID_P_C, m.f.c[MC_C], sqrt(m.f.cov[MC_C][MC_C]));
+    judge(res, ID_P_MC, m.f.c[MC_MC], sqrt(m.f.cov[MC_MC][MC_MC]));
+    judge(res, ID_P_KV, m.f.c[MC_KV], sqrt(m.f.cov[MC_KV][MC_KV]));
+    {
+        const double ms = m.f.c[MC_MC] + m.f.c[MC_DM];
+        const double var = m.f.cov[MC_MC][MC_MC] + m.f.cov[MC_DM][MC_DM] + 2.0 * m.f.cov[MC_MC][MC_DM];
+        const double sdm = sqrt(m.f.cov[MC_DM][MC_DM]);
+        if (!ws_ok || nlow < ID_MIN_SAMPLES / 4u) {
+            char why[ID_WHY_MAX];
+            if (!ws_ok) {
+                (void)snprintf(why, sizeof why, "too little excitation: the Stribeck velocity runs to the search bound %g rad/s",
+                               exp(xbest));
+            } else {
+                (void)snprintf(why, sizeof why, "too little excitation: %lu samples slower than 2 ws = %.3g rad/s (%u needed)",
+                               (unsigned long)nlow, 2.0 * exp(xbest), ID_MIN_SAMPLES / 4u);
+            }
+            mark(res, ID_P_MS, ms, sqrt(var), 0, why);
+            mark(res, ID_P_WS, exp(xbest), NAN, 0, why);
+        } else if (!(m.f.c[MC_DM] > 2.0 * sdm)) {
+            mark(res, ID_P_MS, ms, sqrt(var), 0, "too little excitation: no Stribeck drop seen (Ms - Mc within 2 sigma of 0)");
+            mark(res, ID_P_WS, exp(xbest), exp(xbest) * sigma_x, 0, "too little excitation: no Stribeck drop seen");
+        } else {
+            judge(res, ID_P_MS, ms, var >= 0.0 ? sqrt(var) : (double)NAN);
+            judge(res, ID_P_WS, exp(xbest), exp(xbest) * sigma_x);
+        }
+    }
+out:
+    free(m.X);
+    free(m.y);
+    free(m.w);
+    free(m.use);
+    return rc;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+/* 3. Stops                                                                                    */
+/* ------------------------------------------------------------------------------------------ */
+
+/* The contact forces of the rest blocks for a friction level fric [N m]: push less the friction
+ * of a loading block, plus that of an unloading one; blocks below ID_BLOCK_F_MIN_NM dropped. */
+static void build_forces(double *const Pr[2], double *const Sr[2], double *const Ar[2], const size_t nr[2], double fric,
+                         double *F[2], double *A[2], size_t nb[2], double f_lo[2], double f_hi[2])
+{
+    int s;
+    size_t b;
+    for (s = 0; s < 2; ++s) {
+        nb[s] = 0u;
+        f_lo[s] = HUGE_VAL;
+        f_hi[s] = 0.0;
+        for (b = 0; b < nr[s]; ++b) {
+            const double f = Pr[s][b] - Sr[s][b] * fric;
+            if (f > ID_BLOCK_F_MIN_NM) {
+                F[s][nb[s]] = f;
+                A[s][nb[s]] = Ar[s][b];
+                f_lo[s] = fmin(f_lo[s], f);
+                f_hi[s] = fmax(f_hi[s], f);
+                ++nb[s];
+            }
+        }
+    }
+}
+
+/* 1 when the voltage swung by more than ID_DITHER_SWING_V within the ID_DITHER_LOOKBACK samples
+ * before k0 while the plate stayed within ID_BLOCK_NEAR_RAD of where it is at k0: the rest that
+ * follows was settled by a dither. */
+static int dithered_before(const id_data_t *d, size_t k0)
+{
+    size_t j;
+    double umin = HUGE_VAL;
+    double umax = -HUGE_VAL;
+    for (j = 1; j <= ID_DITHER_LOOKBACK && j <= k0; ++j) {
+        const size_t k = k0 - j;
+        if (d->ok[k] == 0u || fabs(d->phi_rad[k] - d->phi_rad[k0]) > ID_BLOCK_NEAR_RAD) {
+            return 0;
+        }
+        umin = fmin(umin, d->u_V[k]);
+        umax = fmax(umax, d->u_V[k]);
+    }
+    return umax - umin > ID_DITHER_SWING_V && k0 >= ID_DITHER_LOOKBACK;
+}
+
+static int fit_stops(const id_data_t *d, id_result_t *res)
+{
+    const size_t nb_max = d->n / ID_BLOCK + 1u;
+    double *F[2];
+    double *A[2];
+    double *Pr[2];
+    double *Sr[2];
+    double *Ar[2];
+    size_t nr[2] = {0u, 0u};
+    int jf;
+    double cand_ms = HUGE_VAL;
+    double cand_fr = 1.0;
+    double cand_e = 1.0;
+    double cand_a0[2] = {(double)NAN, (double)NAN};
+    double cand_k[2] = {(double)NAN, (double)NAN};
+    int episode = -1;        /* the stop of the current rest episode, -1: none */
+    double ep_max = -HUGE_VAL; /* the largest push of the episode so far [N m] */
+    const double Mc = res->identified[ID_P_MC] ? res->value[ID_P_MC] : 0.0;
+    tv_real_t lvF[2][SL_LEVELS];
+    tv_real_t lvA[2][SL_LEVELS];
+    unsigned nlev[2] = {0u, 0u};
+    size_t nb[2] = {0u, 0u};
+    double f_lo[2] = {HUGE_VAL, HUGE_VAL};
+    double f_hi[2] = {0.0, 0.0};
+    const double nKt = res->value[ID_P_NKE];
+    const double M0 = res->value[ID_P_M0];
+    const double c = res->value[ID_P_C];
+    sl_config_t slc;
+    size_t b;
+    int s;
+    int rc = TV_OK;
+    double best_sse = HUGE_VAL;
+    double best_e = 1.0;
+    double best_a0[2] = {(double)NAN, (double)NAN};
+    double best_k[2] = {(double)NAN, (double)NAN};
+    int j;
+    sl_config_default(&slc);
+    F[0] = (double *)malloc(nb_max * sizeof(double));
+    F[1] = (double *)malloc(nb_max * sizeof(double));
+    A[0] = (double *)malloc(nb_max * sizeof(double));
+    A[1] = (double *)malloc(nb_max * sizeof(double));
+    Pr[0] = (double *)malloc(nb_max * sizeof(double));
+    Pr[1] = (double *)malloc(nb_max * sizeof(double));
+    Sr[0] = (double *)malloc(nb_max * sizeof(double));
+    Sr[1] = (double *)malloc(nb_max * sizeof(double));
+    Ar[0] = (double *)malloc(nb_max * sizeof(double));
+    Ar[1] = (double *)malloc(nb_max * sizeof(double));
+    if (F[0] == NULL || F[1] == NULL || A[0] == NULL || A[1] == NULL || Pr[0] == NULL || Pr[1] == NULL ||
+        Sr[0] == NULL || Sr[1] == NULL || Ar[0] == NULL || Ar[1] == NULL) {
+        rc = TV_ERR_IO;
+        goto out;
+    }
+    if (!res->identified[ID_P_NKE] || !res->identified[ID_P_M0] || !res->identified[ID_P_C]) {
+        mark(res, ID_P_PHI_CLOSED, NAN, NAN, 0, "needs n Kt and the springs, which were not identified");
+        mark(res, ID_P_PHI_OPEN, NAN, NAN, 0, "needs n Kt and the springs, which were not identified");
+        mark(res, ID_P_K_STOP, NAN, NAN, 0, "needs n Kt and the springs, which were not identified");
+        mark(res, ID_P_STOP_EXP, NAN, NAN, 0, "needs n Kt and the springs, which were not identified");
+        goto out;
+    }
+    /* Rest blocks: still, steady voltage, at an end of the travel, pressed into it. Friction holds
+     * a resting plate where its last motion left it, opposing that motion, at about Mc (measured
+     * on the plant: 0.6 .. 1.2 Mc): a block reached by LOADING (the plate arrived at the stop, or
+     * the push rose) carries Mc less on the stop than the motor and springs give, one reached by
+     * UNLOADING (the push fell since the plate arrived: it crept back out) Mc more. The episode is
+     * the run of blocks whose every sample stays near that end of the travel. */
+    for (b = 0; (b + 1u) * ID_BLOCK <= d->n; ++b) {
+        const size_t k0 = b * ID_BLOCK;
+        double pmin = HUGE_VAL;
+        double pmax = -HUGE_VAL;
+        double umin = HUGE_VAL;
+        double umax = -HUGE_VAL;
+        double psum = 0.0;
+        double isum = 0.0;
+        int ok = 1;
+        int near = -1; /* the end all samples of the block are near, -1: none */
+        size_t k;
+        for (k = k0; k < k0 + ID_BLOCK; ++k) {
+            if (d->ok[k] == 0u) {
+                ok = 0;
+                break;
+            }
+            pmin = fmin(pmin, d->phi_rad[k]);
+            pmax = fmax(pmax, d->phi_rad[k]);
+            umin = fmin(umin, d->u_V[k]);
+            umax = fmax(umax, d->u_V[k]);
+            psum += d->phi_rad[k];
+            isum += d->i_A[k];
+        }
+        if (ok && pmin > res->travel_hi_rad - ID_BLOCK_NEAR_RAD) {
+            near = 1;
+        } else if (ok && pmax < res->travel_lo_rad + ID_BLOCK_NEAR_RAD) {
+            near = 0;
+        }
+        if (near != episode) { /* a new episode at a stop, or none */
+            episode = near;
+            ep_max = -HUGE_VAL;
+        }
+        if (near < 0 || pmax - pmin > ID_BLOCK_SPREAD_RAD || umax - umin > ID_BLOCK_SPREAD_V) {
+            continue;
+        }
+        {
+            const double phi = psum / (double)ID_BLOCK;
+            const double torque = nKt * isum / (double)ID_BLOCK;
+            /* push into the stop: motor torque less the springs (M0 sp(phi) + c phi) */
+            const double push = near == 1 ? torque - M0 * sgn(phi) - c * phi : M0 * sgn(phi) + c * phi - torque;
+            Pr[near][nr[near]] = push;
+            /* -1: unloading, +1: loading, 0: settled by a dither (friction shaken off) */
+            Sr[near][nr[near]] = dithered_before(d, k0) ? 0.0 : (push < ep_max - ID_UNLOAD_NM ? -1.0 : 1.0);
+            Ar[near][nr[near]] = phi;
+            ++nr[near];
+            ep_max = fmax(ep_max, push);
+        }
+    }
+    /* where the log settled a stop's rests by a dither (at least ID_SETTLED_MIN blocks spanning
+     * ID_STOP_F_SPAN_NM of push), those blocks alone: they carry no friction to guess */
+    for (s = 0; s < 2; ++s) {
+        size_t m = 0;
+        double plo = HUGE_VAL;
+        double phi_ = -HUGE_VAL;
+        for (b = 0; b < nr[s]; ++b) {
+            if (Sr[s][b] == 0.0) {
+                ++m;
+                plo = fmin(plo, Pr[s][b]);
+                phi_ = fmax(phi_, Pr[s][b]);
+            }
+        }
+        if (m >= ID_SETTLED_MIN && phi_ - plo >= ID_STOP_F_SPAN_NM) {
+            m = 0;
+            for (b = 0; b < nr[s]; ++b) {
+                if (Sr[s][b] == 0.0) {
+                    Pr[s][m] = Pr[s][b];
+                    Sr[s][m] = 0.0;
+                    Ar[s][m] = Ar[s][b];
+                    ++m;
+                }
+            }
+            nr[s] = m;
+        }
+    }
+    /* The friction a block carries is about Mc (0.6 .. 1.2 Mc on the plant): its factor phi_f is
+     * searched on a grid together with the exponent, the pair with the smallest RMS residual of
+     * the rest angles is kept. */
+    for (jf = 0; jf < ID_FRIC_GRID; ++jf) {
+        const double fr = ID_FRIC_LO + (ID_FRIC_HI - ID_FRIC_LO) * (double)jf / (double)(ID_FRIC_GRID - 1);
+        double fbest = HUGE_VAL;
+        size_t nused = 0;
+        build_forces(Pr, Sr, Ar, nr, fr * Mc, F, A, nb, f_lo, f_hi);
+        nlev[0] = nlev[1] = 0u;
+        best_sse = HUGE_VAL;
+        /* the blocks of each stop pooled into at most SL_LEVELS force levels, the form the
+         * stop-learning routine's fit takes: split where the sorted forces leave their largest
+         * gaps (each level the log held weighs the same, however long it was held); a log with
+         * one level only is split into equal counts */
+        for (s = 0; s < 2; ++s) {
+            if (nb[s] >= 2u) {
+                size_t cut[SL_LEVELS + 1u];
+                unsigned nl = 1u;
+                unsigned l;
+                gsl_sort2(F[s], 1, A[s], 1, nb[s]);
+                cut[0] = 0u;
+                while (nl < SL_LEVELS) { /* the largest gap not yet cut, above ID_LEVEL_GAP_NM */
+                    size_t bg = 0u;
+                    double g = ID_LEVEL_GAP_NM;
+                    for (b = 0; b + 1u < nb[s]; ++b) {
+                        int taken = 0;
+                        for (l = 1; l < nl; ++l) {
+                            taken |= cut[l] == b + 1u;
+                        }
+                        if (!taken && F[s][b + 1u] - F[s][b] > g) {
+                            g = F[s][b + 1u] - F[s][b];
+                            bg = b + 1u;
+                        }
+                    }
+                    if (bg == 0u) {
+                        break;
+                    }
+                    cut[nl++] = bg;
+                }
+                if (nl == 1u) {
+                    nl = nb[s] < SL_LEVELS ? (unsigned)nb[s] : SL_LEVELS;
+                    for (l = 1; l < nl; ++l) {
+                        cut[l] = nb[s] * l / nl;
+                    }
+                }
+                gsl_sort_ulong(cut, 1, nl);
+                cut[nl] = nb[s];
+                for (l = 0; l < nl; ++l) {
+                    double fs = 0.0;
+                    double as = 0.0;
+                    for (b = cut[l]; b < cut[l + 1u]; ++b) {
+                        fs += F[s][b];
+                        as += A[s][b];
+                    }
+                    lvF[s][l] = (tv_real_t)(fs / (double)(cut[l + 1u] - cut[l]));
+                    lvA[s][l] = (tv_real_t)(as / (double)(cut[l + 1u] - cut[l]));
+                }
+                nlev[s] = nl;
+            }
+        }
+        /* contact law: exponent grid, sl_contact_fit() per stop, the exponent common to both */
+        for (j = 0; j < ID_EXP_GRID; ++j) {
+            const double e = 1.0 + (double)j / (double)(ID_EXP_GRID - 1);
+            const double kscale = pow((double)SL_P_REF_RAD, 1.0 - e);
+            double sse = 0.0;
+            double a0[2] = {(double)NAN, (double)NAN};
+            double kk[2] = {(double)NAN, (double)NAN};
+            for (s = 0; s < 2; ++s) {
+                tv_real_t a0r;
+                tv_real_t kr;
+                const tv_real_t dir = s == 0 ? TV_R(-1.0) : TV_R(1.0);
+                if (nlev[s] < 2u || f_hi[s] - f_lo[s] < 1e-3) {
+                    continue;
+                }
+                if (sl_contact_fit(lvF[s], lvA[s], nlev[s], dir, (tv_real_t)e, (tv_real_t)((double)slc.k_min * kscale),
+                                   (tv_real_t)((double)slc.k_max * kscale), &a0r, &kr) != TV_OK) {
+                    continue;
+                }
+                a0[s] = (double)a0r;
+                kk[s] = (double)kr;
+                for (b = 0; b < nb[s]; ++b) {
+                    const double r = A[s][b] - (a0[s] + (double)dir * pow(F[s][b] / kk[s], 1.0 / e));
+                    sse += r * r;
+                }
+            }
+            if (sse < best_sse && (isfinite(a0[0]) || isfinite(a0[1]))) {
+                best_sse = sse;
+                best_e = e;
+                best_a0[0] = a0[0];
+                best_a0[1] = a0[1];
+                best_k[0] = kk[0];
+                best_k[1] = kk[1];
+            }
+        }
+        nused = nb[0] + nb[1];
+        fbest = nused > 0u ? best_sse / (double)nused : HUGE_VAL;
+        if (fbest < cand_ms) {
+            cand_ms = fbest;
+            cand_fr = fr;
+            cand_e = best_e;
+            memcpy(cand_a0, best_a0, sizeof cand_a0);
+            memcpy(cand_k, best_k, sizeof cand_k);
+        }
+    }
+    build_forces(Pr, Sr, Ar, nr, cand_fr * Mc, F, A, nb, f_lo, f_hi);
+    best_sse = cand_ms * (double)(nb[0] + nb[1]);
+    best_e = cand_e;
+    memcpy(best_a0, cand_a0, sizeof best_a0);
+    memcpy(best_k, cand_k, sizeof best_k);
+    res->n_blocks[0] = nb[0];
+    res->n_blocks[1] = nb[1];
+    {
+        size_t ntot = 0;
+        int stiff_ok = 1;
+        double lk = 0.0;
+        int nk = 0;
+        for (s = 0; s < 2; ++s) {
+            const id_param_t p = s == 0 ? ID_P_PHI_CLOSED : ID_P_PHI_OPEN;
+            if (!isfinite(best_a0[s])) {
+                char why[ID_WHY_MAX];
+                (void)snprintf(why, sizeof why, "too little excitation: %lu rest blocks pressed into the %s stop (2 with different forces needed)",
+                               (unsigned long)nb[s], s == 0 ? "closed" : "open");
+                mark(res, p, NAN, NAN, 0, why);
+                stiff_ok = 0;
+                continue;
+            }
+            {
+                /* the onset's sigma: a fit of a - dir (F / k)^(1/e) on a constant */
+                double *X = (double *)malloc(nb[s] * sizeof(double));
+                double *y = (double *)malloc(nb[s] * sizeof(double));
+                uint8_t *use = (uint8_t *)malloc(nb[s]);
+                ls_fit_t f;
+                double sig = (double)NAN;
+                if (X == NULL || y == NULL || use == NULL) {
+                    free(X);
+                    free(y);
+                    free(use);
+                    rc = TV_ERR_IO;
+                    goto out;
+                }
+                for (b = 0; b < nb[s]; ++b) {
+                    X[b] = 1.0;
+                    y[b] = A[s][b] - (s == 0 ? -1.0 : 1.0) * pow(F[s][b] / best_k[s], 1.0 / best_e);
+                    use[b] = 1u;
+                }
+                if (ls_solve(X, y, use, nb[s], 1u, &f) == TV_OK) {
+                    sig = sqrt(f.cov[0][0]);
+                }
+                free(X);
+                free(y);
+                free(use);
+                mark(res, p, best_a0[s], sig, 1, "");
+            }
+            ntot += nb[s];
+            lk += log(best_k[s]);
+            ++nk;
+            if (f_hi[s] - f_lo[s] < ID_STOP_F_SPAN_NM) {
+                stiff_ok = 0;
+            }
+        }
+        res->rms_stop_rad = ntot > 0u ? sqrt(best_sse / (double)ntot) : (double)NAN;
+        if (nk == 0 || !stiff_ok) {
+            const char *why = "too little excitation: both stops need rest blocks spanning 0.2 N m of contact force";
+            mark(res, ID_P_K_STOP, NAN, NAN, 0, why);
+            mark(res, ID_P_STOP_EXP, NAN, NAN, 0, why);
+        } else {
+            /* the geometric mean of the two stops' stiffness, as the stop-learning routine */
+            mark(res, ID_P_K_STOP, exp(lk / (double)nk), NAN, 1, "");
+            mark(res, ID_P_STOP_EXP, best_e, NAN, 1, "");
+        }
+    }
+out:
+    free(F[0]);
+    free(F[1]);
+    free(A[0]);
+    free(A[1]);
+    for (s = 0; s < 2; ++s) {
+        free(Pr[s]);
+        free(Sr[s]);
+        free(Ar[s]);
+    }
+    return rc;
+}
+
+/* ------------------------------------------------------------------------------------------ */
+
+/*
+ * The ends of the travel: the ID_TRAVEL_QUANTILE and 1 - ID_TRAVEL_QUANTILE quantiles of the
+ * smoothed angle. A plate rests at its stops for seconds in any log that identifies them; an
+ * impact into a soft stop goes deeper for a few milliseconds only (30 mrad measured on the
+ * softest units), which the extremes would take for the stop.
+ */
+static int travel_ends(const id_data_t *d, const id_sig_t *s, id_result_t *res)
+{
+    double *v = (double *)malloc((d->n > 0u ? d->n : 1u) * sizeof(double));
+    size_t m = 0;
+    size_t k;
+    if (v == NULL) {
+        return TV_ERR_IO;
+    }
+    for (k = 0; k < d->n; ++k) {
+        if (s->win[k] != 0u) {
+            v[m++] = s->phi[k];
+        }
+    }
+    if (m == 0u) {
+        res->travel_lo_rad = res->travel_hi_rad = 0.0;
+    } else {
+        gsl_sort(v, 1, m);
+        res->travel_lo_rad = gsl_stats_quantile_from_sorted_data(v, 1, m, ID_TRAVEL_QUANTILE);
+        res->travel_hi_rad = gsl_stats_quantile_from_sorted_data(v, 1, m, 1.0 - ID_TRAVEL_QUANTILE);
+    }
+    free(v);
+    return TV_OK;
+}
+
+int id_run(const id_data_t *d, FILE *progress, id_result_t *res)
+{
+    id_sig_t s;
+    int p;
+    int rc;
+    gsl_error_handler_t *old;
+    if (res == NULL) {
+        return TV_ERR_NULL;
+    }
+    memset(res, 0, sizeof *res);
+    for (p = 0; p < (int)ID_P_COUNT; ++p) {
+        res->value[p] = (double)NAN;
+        res->sigma[p] = (double)NAN;
+    }
+    res->r2_elec = res->rms_elec_A = res->r2_mech = res->rms_mech_Nm = res->rms_stop_rad = (double)NAN;
+    if (d == NULL || d->u_V == NULL || d->i_A == NULL || d->phi_rad == NULL || d->ok == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (d->n < 4u * (size_t)ID_SG_HALF + 2u || !(d->Ts_s > 0.0)) {
+        return TV_ERR_RANGE;
+    }
+    s_Ts = d->Ts_s;
+    old = gsl_set_error_handler_off(); /* GSL reports through its return codes, which are checked */
+    memset(&s, 0, sizeof s);
+    rc = sig_build(d, &s);
+    if (rc == TV_OK) {
+        rc = travel_ends(d, &s, res);
+    }
+    if (rc == TV_OK) {
+        if (progress != NULL) {
+            fprintf(progress, "identify: %lu samples; angle %.4f .. %.4f rad; armature fit ...\n", (unsigned long)d->n,
+                    res->travel_lo_rad, res->travel_hi_rad);
+        }
+        rc = fit_armature(d, &s, res);
+    }
+    if (rc == TV_OK) {
+        if (progress != NULL) {
+            fprintf(progress, "identify: plate fit (Stribeck velocity by Brent's method) ...\n");
+        }
+        if (res->identified[ID_P_NKE]) {
+            rc = fit_plate(d, &s, res);
+        } else {
+            const id_param_t mp[] = {ID_P_J, ID_P_M0, ID_P_C, ID_P_MC, ID_P_MS, ID_P_WS, ID_P_KV};
+            for (p = 0; p < (int)(sizeof mp / sizeof mp[0]); ++p) {
+                mark(res, mp[p], NAN, NAN, 0, "needs n Kt (= n Ke), which was not identified");
+            }
+        }
+    }
+    if (rc == TV_OK) {
+        if (progress != NULL) {
+            fprintf(progress, "identify: stops and contact law ...\n");
+        }
+        rc = fit_stops(d, res);
+    }
+    sig_free(&s);
+    (void)gsl_set_error_handler(old);
+    return rc;
+}

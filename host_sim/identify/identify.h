@@ -1,0 +1,128 @@
+/**
+ * @file identify.h
+ * @brief Parameter identification of the throttle model (firmware/estimator/tv_model.h) from
+ *        the calibrated samples of one open-loop bench log (host tool; heap, GSL numerics).
+ *
+ * METHOD (equation error on the model's own equations; README "Identification"):
+ *   0. Signals: u = duty x measured supply (bridge enabled), i and phi calibrated from the log's
+ *      counts exactly as the application does. phi is smoothed and differentiated by a
+ *      Savitzky-Golay filter (cubic, 2 ID_SG_HALF + 1 samples; coefficients from a GSL least-
+ *      squares fit of the window's polynomial), the current smoothed by the same filter.
+ *   1. Armature, exact over one period with the input held (the model's own ZOH solution):
+ *        i(k+1) = a i(k) + b u(k) - b nKe wbar(k),  a = exp(-R Ts / L), b = (1 - a) / R,
+ *      wbar the smoothed velocity over the period: linear least squares in (a, b, b nKe), then
+ *      R = (1 - a) / b, L = -R Ts / ln a, nKe; standard deviations by the delta method from the
+ *      fit's covariance. (dw/dt-free, and L stays identifiable although L / R < Ts.)
+ *   2. Plate, in free motion (away from both stops and limp-home, moving one way over the whole
+ *      filter window):
+ *        nKt i = J dw/dt + M0 sp(phi) + c phi + Mc sgn(w) + (Ms - Mc) exp(-|w| / ws) sgn(w) + Kv w,
+ *      with nKt = nKe (an ideal motor's constants are one number in SI units: tied, not fitted
+ *      twice), linear in (J, M0, c, Mc, Ms - Mc, Kv) for a given Stribeck velocity ws; ws by
+ *      Brent's method (GSL) on the residual sum of squares over ln ws (variable projection),
+ *      its standard deviation from the curvature of that sum.
+ *   3. Stops: 50 ms blocks where the plate rests at the travel's ends (the 0.5 % quantiles of
+ *      the angle) under a steady push; the contact force (motor torque less the fitted springs)
+ *      against the rest angle gives the Hunt-Crossley law a = a0 + dir (F / k)^(1/e) per stop,
+ *      the exponent common to both (sl_contact_fit() of the stop-learning routine for each
+ *      exponent of a grid, on the blocks pooled into force levels). Blocks settled by a dither
+ *      (APP_MODE_IDENT's stop levels) carry no friction and are used alone where a log has them;
+ *      otherwise each block is corrected by the friction its last motion left (loading or
+ *      unloading, its level searched with the exponent). The onsets a0 are the stop angles,
+ *      their standard deviation from a GSL fit at the chosen exponent.
+ *   Each linear fit is done twice: samples with a residual beyond ID_OUTLIER_SIGMA robust
+ *   standard deviations (stop impacts, stick-slip inside the window) are dropped for the second.
+ *   Standard deviations are s^2 (X^T X)^-1, s^2 the residual variance: white-residual figures,
+ *   optimistic for the correlated residuals of smoothed signals. Fit quality: R^2 and the RMS
+ *   residual per equation.
+ *
+ * A parameter is IDENTIFIED when its fit had enough samples and its standard deviation is below
+ * ID_REL_SIGMA_MAX of its value (and the value is physical: > 0, Ms >= Mc); otherwise
+ * id_result_t::why says what was missing and the caller keeps its default.
+ */
+#ifndef IDENTIFY_H
+#define IDENTIFY_H
+
+#include <stddef.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Half width of the Savitzky-Golay window [samples] (the window is 2 ID_SG_HALF + 1 = 21 ms). */
+#define ID_SG_HALF 10
+/** A parameter is identified when sigma / |value| is below this [-]. */
+#define ID_REL_SIGMA_MAX 0.2
+/** Residuals beyond this many robust standard deviations are dropped before the final fit. */
+#define ID_OUTLIER_SIGMA 4.0
+/** Fewest samples a fit needs. */
+#define ID_MIN_SAMPLES 200u
+/** Room for a reason [bytes]. */
+#define ID_WHY_MAX 128u
+
+/** The identified quantities. */
+typedef enum {
+    ID_P_R = 0,        /**< armature resistance [ohm] */
+    ID_P_L,            /**< armature inductance [H] */
+    ID_P_NKE,          /**< n Ke = n Kt, plate side [V s/rad] = [N m/A] */
+    ID_P_J,            /**< inertia at the plate [kg m^2] */
+    ID_P_M0,           /**< spring preload [N m] */
+    ID_P_C,            /**< spring rate [N m/rad] */
+    ID_P_MC,           /**< Coulomb friction [N m] */
+    ID_P_MS,           /**< static friction [N m] */
+    ID_P_WS,           /**< Stribeck velocity [rad/s] */
+    ID_P_KV,           /**< viscous friction [N m s/rad] */
+    ID_P_PHI_CLOSED,   /**< closed stop (contact onset) [rad] */
+    ID_P_PHI_OPEN,     /**< open stop (contact onset) [rad] */
+    ID_P_K_STOP,       /**< contact stiffness [N m/rad^e] */
+    ID_P_STOP_EXP,     /**< Hunt-Crossley exponent e [-] */
+    ID_P_COUNT
+} id_param_t;
+
+/** The samples of a log, one per period (Ts = 1 ms). Arrays of n, owned by the caller. */
+typedef struct {
+    size_t n;            /**< number of samples */
+    const double *u_V;   /**< voltage applied over [t_k, t_k + Ts) [V] */
+    const double *i_A;   /**< measured current at t_k [A] */
+    const double *phi_rad; /**< measured angle at t_k [rad] */
+    const uint8_t *ok;   /**< 1: sample usable (bridge enabled, plausible angle and current, and
+                              exactly one period after the previous sample); 0: not */
+    double Ts_s;         /**< sample period [s], > 0 */
+} id_data_t;
+
+/** What the identification found. */
+typedef struct {
+    double value[ID_P_COUNT];      /**< estimates (valid where identified) */
+    double sigma[ID_P_COUNT];      /**< their standard deviations (NaN: none) */
+    int identified[ID_P_COUNT];    /**< 1: identified (see the file comment) */
+    char why[ID_P_COUNT][ID_WHY_MAX]; /**< why not, when not identified */
+    size_t n_elec, n_mech;         /**< samples in the final armature and plate fits */
+    size_t n_blocks[2];            /**< rest blocks at the closed / open stop */
+    double r2_elec, rms_elec_A;    /**< armature fit: R^2 of i(k+1) and RMS residual [A] */
+    double r2_mech, rms_mech_Nm;   /**< plate fit: R^2 of the motor torque and RMS residual [N m] */
+    double rms_stop_rad;           /**< contact-law fit: RMS residual of the rest angles [rad] */
+    double travel_lo_rad, travel_hi_rad; /**< smallest and largest smoothed angle of the log [rad] */
+    int moved;                     /**< 1: the plate moved (enough free-motion samples for the plate fit) */
+} id_result_t;
+
+/** Name of a parameter as printed ("R", "L", "nKe", ...). */
+const char *id_param_name(id_param_t p);
+/** Unit of a parameter ("ohm", ...). */
+const char *id_param_unit(id_param_t p);
+
+/**
+ * Identify the parameters.
+ * @param d the samples
+ * @param progress NULL, or a stream for one line per stage
+ * @param res the result (always written)
+ * @return 0; TV_ERR_NULL; TV_ERR_RANGE (fewer samples than one filter window, Ts not > 0);
+ *         TV_ERR_IO (out of memory).
+ */
+int id_run(const id_data_t *d, FILE *progress, id_result_t *res);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* IDENTIFY_H */
