@@ -73,6 +73,8 @@ typedef struct {
 } pop_learn_t;
 
 static pop_learn_t s_learn[2];
+/** --fault: injected into every scored run (not into the stop learning nor the nominal unit's run). */
+static plant_fault_list_t s_faults;
 
 static double max_finite(double a, double b)
 {
@@ -142,7 +144,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--first-seed F] [--scenarios A,B,...]\n"
             "          [--duration S] [--sections stops,all] [--params FILE] [--stop-learning on|off]\n"
-            "          [--json PATH] [--runs-csv PATH] [--params-out DIR] [--quick] [--help]\n"
+            "          [--json PATH] [--runs-csv PATH] [--params-out DIR] [--fault SPEC ...] [--quick] [--help]\n"
             "\n"
             "Runs the application's estimator (double build) on a population of throttles\n"
             "(host_sim/plant/plant_draw.h) over a scenario mix and scores its velocity against\n"
@@ -175,6 +177,9 @@ static void usage(FILE *f)
             "  --params-out DIR  also write each unit's filter parameter file (after stop learning)\n"
             "                    as DIR/<section>_<ID>.params: host_sim --unit ID --spread S\n"
             "                    --params FILE then reruns one of its runs with the CSV trace\n"
+            "  --fault SPEC      inject a fault into every scored run (repeatable; the syntax and kinds\n"
+            "                    of host_sim --fault, host_sim/plant/plant_fault.h); the stop learning\n"
+            "                    and the nominal unit's reference run stay healthy\n"
             "  --quick           6 plants, 1 seed (a few seconds)\n"
             "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n");
 }
@@ -299,7 +304,7 @@ int main(int argc, char **argv)
     int sec;
     static const char *const takes_value[] = {"--plants", "--seeds", "--first-unit", "--first-seed", "--scenarios", "--duration",
                                               "--sections", "--params", "--json", "--runs-csv", "--stop-learning",
-                                              "--params-out", NULL};
+                                              "--params-out", "--fault", NULL};
     int stop_learning = 1;
 
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
@@ -396,6 +401,11 @@ int main(int argc, char **argv)
             json_path = v;
         } else if (strcmp(a, "--params-out") == 0) {
             params_out = v;
+        } else if (strcmp(a, "--fault") == 0) {
+            char msg[PLANT_FAULT_MSG_MAX];
+            if (plant_fault_list_add(&s_faults, v, msg, sizeof msg) != TV_OK) {
+                return usage_error("option %s: %s", a, msg);
+            }
         } else {
             runs_csv = v;
         }
@@ -494,6 +504,7 @@ int main(int argc, char **argv)
                     opt.duration_s = duration_s;
                     opt.plant = &pc;
                     opt.app = &ac;
+                    opt.faults = &s_faults;
                     rc = sim_run(&opt, &r);
                     if (rc != TV_OK) {
                         fprintf(stderr, "%s: unit %llu, %s, seed %llu: %s\n", s_prog, (unsigned long long)unit,

@@ -45,6 +45,7 @@
 #include "sim_tracking.h"
 #include "ekf.h"
 #include "plant.h"
+#include "plant_fault.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -164,6 +165,9 @@ typedef struct {
     const plant_config_t *plant; /**< NULL: plant_config_default(); pwm_ripple applies on top */
     const app_config_t *app;   /**< NULL: app_config_default(); the scenario sets the control
                                     mode and its parameters, then setup / Q / R overrides apply */
+    const plant_fault_list_t *faults; /**< NULL, or faults injected into the plant and its sensors
+                                    (plant_fault.h): each tick t_k the faults in force at t_k are set
+                                    before the application reads the ADC */
     uint32_t drop_tick_every;  /**< 0: never; N > 1: every N-th tick the application is not run
                                     (a missing sample, predicted across by the application) */
     FILE *csv;                 /**< NULL, or a stream for the CSV log (header + one line per tick) */
@@ -273,7 +277,8 @@ const char *sim_est_id(sim_est_t e);
  * @param res results (always written: zeroed / NaN first)
  * @return TV_OK; TV_ERR_NULL; TV_ERR_RANGE (duration, scenario, drop_tick_every == 1);
  *         TV_ERR_NONFINITE / TV_ERR_CONFIG (a Q / R override or a plant / application
- *         configuration rejected by its init); TV_ERR_IO (CSV write failed); TV_ERR_NUMERIC
+ *         configuration rejected by its init, or a fault that the plant refuses at its full
+ *         size, e.g. a supply sag larger than the supply); TV_ERR_IO (CSV write failed); TV_ERR_NUMERIC
  *         (the plant integration failed).
  */
 int sim_run(const sim_options_t *opt, sim_result_t *res);

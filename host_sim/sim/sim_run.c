@@ -108,6 +108,56 @@ typedef struct {
     uint32_t nees_ring_n;
 } sim_side_t;
 
+/* Every fault of the list at its full size must be one the plant accepts (a supply sag below
+ * the unit's supply, ...): tried once at the start, then the healthy plant is restored. */
+static int sim_faults_check(const plant_fault_list_t *list, const plant_config_t *pcfg)
+{
+    plant_faults_t f;
+    plant_fault_list_t full;
+    unsigned k;
+    int rc;
+    if (list == NULL || list->n == 0u) {
+        return TV_OK;
+    }
+    if (list->n > PLANT_FAULT_LIST_MAX) {
+        return TV_ERR_RANGE;
+    }
+    full = *list;
+    for (k = 0; k < full.n; ++k) {
+        full.spec[k].t_s = 0.0;
+        full.spec[k].ramp_s = 0.0;
+    }
+    (void)plant_fault_at(&full, 0.0, pcfg->tps_supply_V, &f);
+    rc = sim_hal_set_faults(&f);
+    plant_faults_none(&f);
+    (void)sim_hal_set_faults(&f);
+    return rc == TV_OK ? TV_OK : TV_ERR_CONFIG;
+}
+
+/* The faults in force at t_s into the plant (only when they change). */
+static int sim_faults_apply(const plant_fault_list_t *list, const plant_config_t *pcfg, double t_s)
+{
+    static plant_faults_t s_last;
+    static int s_have_last;
+    plant_faults_t f;
+    int rc;
+    if (list == NULL || list->n == 0u) {
+        s_have_last = 0;
+        return TV_OK;
+    }
+    (void)plant_fault_at(list, t_s, pcfg->tps_supply_V, &f);
+    if (t_s > 0.0 && s_have_last && memcmp(&f, &s_last, sizeof f) == 0) {
+        return TV_OK;
+    }
+    rc = sim_hal_set_faults(&f);
+    if (rc != TV_OK) {
+        return TV_ERR_CONFIG;
+    }
+    s_last = f;
+    s_have_last = 1;
+    return TV_OK;
+}
+
 static int sim_ekf_row_is_used(const ekf_innov_t *in, int ch)
 {
     return in->used[ch] != 0u;
@@ -172,6 +222,10 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
     if (rc != TV_OK) {
         return rc;
     }
+    rc = sim_faults_check(opt->faults, &pcfg);
+    if (rc != TV_OK) {
+        return rc;
+    }
 
     /* the application and the comparison estimators */
     rc = sim_app_config(opt, &acfg);
@@ -221,6 +275,9 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         int a;
 
         rc = sim_scenario_update(opt->scenario, app, t_s);
+        if (rc == TV_OK) {
+            rc = sim_faults_apply(opt->faults, &pcfg, t_s);
+        }
         if (rc != TV_OK) {
             return rc;
         }
