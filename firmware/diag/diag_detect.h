@@ -1,0 +1,120 @@
+/**
+ * @file diag_detect.h
+ * @brief The first fault detectors on the 1 kHz path, each reporting to its codes (diag.h):
+ *
+ *   TRACK VOTE (P0121, P0221, P2135), the estimator as third voter. While both position tracks
+ *     are in range, a disagreement |phi1 - phi2| > tps_disagree_rad is resolved against the
+ *     estimator's prediction phi_pred of this sample (the previous estimate moved on by one
+ *     period, computed before this sample corrects the estimator): a track within
+ *     tps_vote_frac * |phi1 - phi2| of the prediction, and closer than the other, is kept and
+ *     the other is named (P0121 for track 1, P0221 for track 2: one failed check); when neither
+ *     is, P2135 fails and no angle is used. Agreeing tracks pass all three. A named track stays
+ *     out of the angle (the kept track alone) for as long as its code is pending or confirmed, so
+ *     the estimator, and with it the next vote, is never pulled toward the faulty track. A track
+ *     that drifts slowly is averaged into the estimate before it crosses the threshold: the vote
+ *     can then not tell the tracks apart and reports P2135 (limitation, README).
+ *   JAM (P2111 stuck open, P2112 stuck closed), closed loop only: the target is at least
+ *     jam_error_rad from the estimated angle, the command pushes toward it with at least
+ *     jam_u_min_V, and the estimated angle moved less than jam_still_rad over the last
+ *     DIAG_JAM_WINDOW samples: a failed check (P2112 when the target is above, i.e. commanded to
+ *     open; P2111 below). Pushing and moving, or the target within jam_error_rad, passes.
+ *   OPEN WINDING (P2100): over the period that just ended the bridge was enabled and drove
+ *     |u - n Ke w| >= open_u_min_V (u the applied voltage, w the estimated velocity at the start
+ *     of the period), and the measured current (plausible) is below open_i_max_A: a failed
+ *     check; a current at or above it passes.
+ *
+ * Pure C99, no heap, no globals; fixed cost per call.
+ */
+#ifndef DIAG_DETECT_H
+#define DIAG_DETECT_H
+
+#include <stdint.h>
+
+#include "diag.h"
+#include "tv_real.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Samples over which the jam check measures the plate's motion (8 ms at 1 kHz). */
+#define DIAG_JAM_WINDOW 8u
+
+/** Detector thresholds (diag_detect_config_default()). */
+typedef struct {
+    tv_real_t tps_disagree_rad; /**< track disagreement that calls the vote [rad], > 0; default 0.005
+                                     (11 counts; healthy tracks share the plate's noise and differ by
+                                     their quantisation, <= 1 count = 4.5e-4 rad) */
+    tv_real_t tps_vote_frac;    /**< a kept track lies within this fraction of the disagreement from
+                                     the prediction [-], (0, 0.5]; default 0.25 */
+    tv_real_t jam_error_rad;    /**< target error from which a plate must move [rad], > 0; default 0.035 */
+    tv_real_t jam_u_min_V;      /**< command toward the target from which the plate must move [V], > 0; default 3 */
+    tv_real_t jam_still_rad;    /**< motion over DIAG_JAM_WINDOW samples below which the plate is still [rad], > 0; default 0.002 */
+    tv_real_t open_u_min_V;     /**< |u - n Ke w| from which a current must flow [V], > 0; default 3 */
+    tv_real_t open_i_max_A;     /**< |current| below which none flows [A], > 0; default 0.15 */
+} diag_detect_config_t;
+
+/** Detector state. Allocate statically; diag_detect_init() before use. */
+typedef struct {
+    diag_detect_config_t cfg;
+    tv_real_t phi_hist[DIAG_JAM_WINDOW]; /**< last estimated angles (ring) [rad] */
+    uint8_t hist_n;        /**< valid entries of phi_hist */
+    uint8_t hist_i;        /**< next slot of phi_hist */
+    uint8_t tps_named;     /**< 0: no track named; 1 or 2: the track the vote named (kept out) */
+} diag_detect_t;
+
+/** Defaults (see diag_detect_config_t). Does nothing when cfg is NULL. */
+void diag_detect_config_default(diag_detect_config_t *cfg);
+
+/**
+ * Validate and start (no history, no track named).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE; TV_ERR_CONFIG (a threshold out of its range).
+ */
+int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg);
+
+/** What diag_tps_vote() decided for this sample's angle. */
+typedef enum {
+    DIAG_TPS_BOTH = 0,  /**< both tracks (the caller's own rule) */
+    DIAG_TPS_ONLY1 = 1, /**< track 1 alone (track 2 named) */
+    DIAG_TPS_ONLY2 = 2, /**< track 2 alone (track 1 named) */
+    DIAG_TPS_NONE = 3   /**< no angle (P2135: the tracks disagree and neither agrees with the estimator) */
+} diag_tps_use_t;
+
+/**
+ * The track vote (see the file comment); reports P0121, P0221, P2135.
+ * @param both_in_range  1 when both tracks are in range (and neither range fault latched): the
+ *                       vote runs; 0: the three codes are not run and DIAG_TPS_BOTH is returned
+ * @param phi1_rad, phi2_rad  the two tracks' angles [rad]
+ * @param phi_pred_rad   the estimator's prediction of this sample's angle [rad]
+ * @param snap           the step's snapshot (its value is replaced by |phi1 - phi2| [rad])
+ * @return the angle to use (diag_tps_use_t); DIAG_TPS_BOTH when an argument is NULL or not finite.
+ */
+diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv_real_t phi1_rad, tv_real_t phi2_rad,
+                             tv_real_t phi_pred_rad, const diag_snapshot_t *snap);
+
+/**
+ * The jam check (see the file comment); reports P2111, P2112. Every call adds phi_est_rad to
+ * the motion history; the check runs from the DIAG_JAM_WINDOW-th call on.
+ * @param active       1 in closed loop with the bridge driving; 0: not run
+ * @param target_rad   the target in force [rad]
+ * @param phi_est_rad  the estimated angle [rad]
+ * @param u_cmd_V      the commanded voltage [V]
+ * @param snap         the step's snapshot (its value is replaced by |target - phi| [rad])
+ */
+void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_rad, tv_real_t phi_est_rad, tv_real_t u_cmd_V,
+                    const diag_snapshot_t *snap);
+
+/**
+ * The open-winding check (see the file comment); reports P2100.
+ * @param active     1 when the bridge drove the period that just ended and the current sample is plausible
+ * @param drive_V    |u - n Ke w| over that period [V]
+ * @param current_A  the measured current [A]
+ * @param snap       the step's snapshot (its value is replaced by |current| [A])
+ */
+void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t drive_V, tv_real_t current_A, const diag_snapshot_t *snap);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DIAG_DETECT_H */
