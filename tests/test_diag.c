@@ -255,38 +255,41 @@ static void test_jam_and_open_winding_rules(void)
     /* a still plate 0.04 rad below its target under +4 V: the first DIAG_JAM_WINDOW calls fill the
      * history, then P2112 (stuck closed) fails once per call: confirmed at call WINDOW + 50 */
     for (k = 1; k <= DIAG_JAM_WINDOW + 49u; ++k) {
-        diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(4.0), &sn);
+        diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(1.9), &sn);
     }
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2112), 0);
-    diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(4.0), &sn);
+    diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(1.9), &sn);
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2112), 1);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2111) + diag_confirmed(&d, DIAG_DTC_P2111), 0);
-    /* just inside the error, or pushing the wrong way, or too weakly: no failure */
+    /* just inside the error, or pushing the wrong way, too weakly, or below twice the breakaway: no failure */
     diag_init(&d);
-    diag_jam_check(&dd, &d, 1, TV_R(0.534), TV_R(0.5), TV_R(4.0), &sn);
-    diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(-4.0), &sn);
-    diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(2.9), &sn);
-    diag_jam_check(&dd, &d, 0, TV_R(0.54), TV_R(0.5), TV_R(4.0), &sn);
+    diag_jam_check(&dd, &d, 1, TV_R(0.534), TV_R(0.5), TV_R(4.0), TV_R(1.9), &sn);
+    diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(-4.0), TV_R(1.9), &sn);
+    diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(2.9), TV_R(1.0), &sn);
+    diag_jam_check(&dd, &d, 0, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(1.9), &sn);
+    diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(2.01), &sn); /* below 2x breakaway */
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2112), 0);
     /* moving by >= 2 mrad over the window passes */
     diag_init(&d);
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_OK);
     for (k = 0; k < 100u; ++k) {
-        diag_jam_check(&dd, &d, 1, TV_R(1.2), TV_R(0.3) + (tv_real_t)k * TV_R(0.0003), TV_R(10.0), &sn);
+        diag_jam_check(&dd, &d, 1, TV_R(1.2), TV_R(0.3) + (tv_real_t)k * TV_R(0.0003), TV_R(10.0), TV_R(1.9), &sn);
     }
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2112), 0);
-    /* open winding: 5 samples of no current under |u - n Ke w| = 3 V confirm; 2.9 V does not run */
+    /* open winding: 5 samples of no current under |u| = |u - n Ke w| = 3 V confirm; 2.9 V of
+     * drive, or 2.9 V applied however large u - emf is, or the bridge off, do not run */
     diag_init(&d);
     for (k = 0; k < 4u; ++k) {
-        diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.149), &sn);
+        diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.0), TV_R(0.149), &sn);
     }
-    diag_open_check(&dd, &d, 1, TV_R(2.9), TV_R(0.0), &sn);
-    diag_open_check(&dd, &d, 0, TV_R(12.0), TV_R(0.0), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(12.0), TV_R(9.1), TV_R(0.0), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(2.9), TV_R(-40.0), TV_R(0.0), &sn);
+    diag_open_check(&dd, &d, 0, TV_R(12.0), TV_R(0.0), TV_R(0.0), &sn);
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2100), 0);
-    diag_open_check(&dd, &d, 1, TV_R(-3.0), TV_R(0.0), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(-3.0), TV_R(0.0), TV_R(0.0), &sn);
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2100), 1);
     diag_init(&d);
-    diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.15), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.0), TV_R(0.15), &sn);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2100), 0);
 }
 

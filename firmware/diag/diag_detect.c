@@ -18,6 +18,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->tps_vote_frac = TV_R(0.25);
     cfg->jam_error_rad = TV_R(0.035);
     cfg->jam_u_min_V = TV_R(3.0);
+    cfg->jam_break_factor = TV_R(2.0);
     cfg->jam_still_rad = TV_R(0.002);
     cfg->open_u_min_V = TV_R(3.0);
     cfg->open_i_max_A = TV_R(0.15);
@@ -31,7 +32,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     }
     {
         const tv_real_t all[] = {cfg->tps_disagree_rad, cfg->tps_vote_frac, cfg->jam_error_rad, cfg->jam_u_min_V,
-                                 cfg->jam_still_rad,    cfg->open_u_min_V,  cfg->open_i_max_A};
+                                 cfg->jam_break_factor, cfg->jam_still_rad, cfg->open_u_min_V,  cfg->open_i_max_A};
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
                 return TV_ERR_NONFINITE;
@@ -116,8 +117,8 @@ diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv
     return use;
 }
 
-void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_rad, tv_real_t phi_est_rad, tv_real_t u_cmd_V,
-                    const diag_snapshot_t *snap)
+void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_rad, tv_real_t phi_est_rad, tv_real_t u_V,
+                    tv_real_t u_break_V, const diag_snapshot_t *snap)
 {
     tv_real_t oldest;
     tv_real_t e;
@@ -134,7 +135,7 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
         ++dd->hist_n;
         return;
     }
-    if (!active || !TV_IS_FINITE(target_rad) || !TV_IS_FINITE(u_cmd_V)) {
+    if (!active || !TV_IS_FINITE(target_rad) || !TV_IS_FINITE(u_V) || !TV_IS_FINITE(u_break_V)) {
         return;
     }
     e = target_rad - phi_est_rad;
@@ -144,20 +145,23 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
         (void)diag_report(d, DIAG_DTC_P2112, DIAG_PASS, &s);
         return;
     }
-    if (!(u_cmd_V * e > TV_R(0.0)) || TV_FABS(u_cmd_V) < dd->cfg.jam_u_min_V) {
+    if (!(u_V * e > TV_R(0.0)) || TV_FABS(u_V) < dd->cfg.jam_u_min_V ||
+        TV_FABS(u_V) < dd->cfg.jam_break_factor * TV_FABS(u_break_V)) {
         return; /* not pushing toward the target: nothing to judge */
     }
     code = e > TV_R(0.0) ? DIAG_DTC_P2112 : DIAG_DTC_P2111;
     (void)diag_report(d, code, TV_FABS(phi_est_rad - oldest) < dd->cfg.jam_still_rad ? DIAG_FAIL : DIAG_PASS, &s);
 }
 
-void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t drive_V, tv_real_t current_A, const diag_snapshot_t *snap)
+void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, tv_real_t current_A,
+                     const diag_snapshot_t *snap)
 {
     diag_snapshot_t s;
-    if (dd == NULL || d == NULL || snap == NULL || !active || !TV_IS_FINITE(drive_V) || !TV_IS_FINITE(current_A)) {
+    if (dd == NULL || d == NULL || snap == NULL || !active || !TV_IS_FINITE(u_V) || !TV_IS_FINITE(emf_V) ||
+        !TV_IS_FINITE(current_A)) {
         return;
     }
-    if (TV_FABS(drive_V) < dd->cfg.open_u_min_V) {
+    if (TV_FABS(u_V) < dd->cfg.open_u_min_V || TV_FABS(u_V - emf_V) < dd->cfg.open_u_min_V) {
         return;
     }
     s = with_value(snap, TV_FABS(current_A));

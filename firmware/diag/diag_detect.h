@@ -14,14 +14,18 @@
  *     that drifts slowly is averaged into the estimate before it crosses the threshold: the vote
  *     can then not tell the tracks apart and reports P2135 (limitation, README).
  *   JAM (P2111 stuck open, P2112 stuck closed), closed loop only: the target is at least
- *     jam_error_rad from the estimated angle, the command pushes toward it with at least
- *     jam_u_min_V, and the estimated angle moved less than jam_still_rad over the last
+ *     jam_error_rad from the estimated angle, the applied voltage pushes toward it with at least
+ *     jam_u_min_V and at least jam_break_factor times the model's breakaway voltage u_break (the
+ *     stall voltage whose torque equals preload + spring + static friction: below it a healthy
+ *     plate may rightly stay stuck), and the estimated angle moved less than jam_still_rad over the last
  *     DIAG_JAM_WINDOW samples: a failed check (P2112 when the target is above, i.e. commanded to
  *     open; P2111 below). Pushing and moving, or the target within jam_error_rad, passes.
- *   OPEN WINDING (P2100): over the period that just ended the bridge was enabled and drove
- *     |u - n Ke w| >= open_u_min_V (u the applied voltage, w the estimated velocity at the start
- *     of the period), and the measured current (plausible) is below open_i_max_A: a failed
- *     check; a current at or above it passes.
+ *   OPEN WINDING (P2100): over the period that just ended the bridge was enabled and applied
+ *     |u| >= open_u_min_V with |u - n Ke w| >= open_u_min_V as well (w the estimated velocity at
+ *     the start of the period: the back-EMF leaves that much to drive a current; the first
+ *     condition keeps a wrong velocity estimate, e.g. against a stop the model does not know yet,
+ *     from making a small voltage look large), and the measured current (plausible) is below
+ *     open_i_max_A: a failed check; a current at or above it passes.
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -48,9 +52,11 @@ typedef struct {
     tv_real_t tps_vote_frac;    /**< a kept track lies within this fraction of the disagreement from
                                      the prediction [-], (0, 0.5]; default 0.25 */
     tv_real_t jam_error_rad;    /**< target error from which a plate must move [rad], > 0; default 0.035 */
-    tv_real_t jam_u_min_V;      /**< command toward the target from which the plate must move [V], > 0; default 3 */
+    tv_real_t jam_u_min_V;      /**< voltage toward the target from which the plate must move [V], > 0; default 3 */
+    tv_real_t jam_break_factor; /**< ... and at least this times the model's breakaway voltage [-], > 0; default 2
+                                     (the population's friction, springs, R and Kt spread up to about 1.5x) */
     tv_real_t jam_still_rad;    /**< motion over DIAG_JAM_WINDOW samples below which the plate is still [rad], > 0; default 0.002 */
-    tv_real_t open_u_min_V;     /**< |u - n Ke w| from which a current must flow [V], > 0; default 3 */
+    tv_real_t open_u_min_V;     /**< |u| and |u - n Ke w| from which a current must flow [V], > 0; default 3 */
     tv_real_t open_i_max_A;     /**< |current| below which none flows [A], > 0; default 0.15 */
 } diag_detect_config_t;
 
@@ -98,20 +104,23 @@ diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv
  * @param active       1 in closed loop with the bridge driving; 0: not run
  * @param target_rad   the target in force [rad]
  * @param phi_est_rad  the estimated angle [rad]
- * @param u_cmd_V      the commanded voltage [V]
+ * @param u_V          the voltage applied toward the target [V]
+ * @param u_break_V    the model's breakaway voltage at this angle [V] (R (M0 + c |phi| + Ms) / (n Kt))
  * @param snap         the step's snapshot (its value is replaced by |target - phi| [rad])
  */
-void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_rad, tv_real_t phi_est_rad, tv_real_t u_cmd_V,
-                    const diag_snapshot_t *snap);
+void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_rad, tv_real_t phi_est_rad, tv_real_t u_V,
+                    tv_real_t u_break_V, const diag_snapshot_t *snap);
 
 /**
  * The open-winding check (see the file comment); reports P2100.
  * @param active     1 when the bridge drove the period that just ended and the current sample is plausible
- * @param drive_V    |u - n Ke w| over that period [V]
+ * @param u_V        the voltage applied over that period [V]
+ * @param emf_V      the back-EMF n Ke w at its start [V]
  * @param current_A  the measured current [A]
  * @param snap       the step's snapshot (its value is replaced by |current| [A])
  */
-void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t drive_V, tv_real_t current_A, const diag_snapshot_t *snap);
+void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, tv_real_t current_A,
+                     const diag_snapshot_t *snap);
 
 #ifdef __cplusplus
 }

@@ -58,6 +58,8 @@ typedef struct {
     double nees_win_max;
     int flagged;        /**< consistency monitor raised a flag */
     int faults;         /**< latched faults at the end */
+    uint32_t dtc;       /**< diagnostic codes confirmed during the run (bit per diag_dtc_t) */
+    uint32_t dtc_pending; /**< diagnostic codes that went pending during the run */
 } pop_run_t;
 
 static pop_run_t s_runs[2][POP_RUNS_MAX];
@@ -201,6 +203,8 @@ typedef struct {
     double nees_win_max;
     unsigned flagged;
     unsigned faulted;
+    unsigned dtc;         /**< runs with a diagnostic code confirmed */
+    unsigned dtc_pending; /**< runs with a diagnostic code pending at least once */
 } pop_sum_t;
 
 static void summarise(const pop_run_t *r, unsigned n, int scn, pop_sum_t *s)
@@ -226,6 +230,8 @@ static void summarise(const pop_run_t *r, unsigned n, int scn, pop_sum_t *s)
         }
         s->flagged += r[k].flagged ? 1u : 0u;
         s->faulted += r[k].faults ? 1u : 0u;
+        s->dtc += r[k].dtc != 0u ? 1u : 0u;
+        s->dtc_pending += r[k].dtc_pending != 0u ? 1u : 0u;
     }
     s->runs = m;
     if (m > 0u) {
@@ -256,13 +262,15 @@ static void json_sum(FILE *f, const pop_sum_t *s, unsigned plants)
     json_num(f, s->nees_max);
     fputs(", \"nees_window_max\": ", f);
     json_num(f, s->nees_win_max);
-    fprintf(f, ", \"consistency_flags_healthy\": %u, \"runs_with_faults\": %u}", s->flagged, s->faulted);
+    fprintf(f, ", \"consistency_flags_healthy\": %u, \"runs_with_faults\": %u, \"runs_with_dtc_confirmed\": %u, "
+               "\"runs_with_dtc_pending\": %u}",
+            s->flagged, s->faulted, s->dtc, s->dtc_pending);
 }
 
 static void print_sum(FILE *f, const char *label, const pop_sum_t *s)
 {
-    fprintf(f, "  %-14s %5u  %8.2f  %8.2f  %9.3g  %9.3g  %9.3g  %5u  %5u\n", label, s->runs, s->worst_ratio,
-            s->median_ratio, s->nees_min, s->nees_max, s->nees_win_max, s->flagged, s->faulted);
+    fprintf(f, "  %-14s %5u  %8.2f  %8.2f  %9.3g  %9.3g  %9.3g  %5u  %5u  %5u  %5u\n", label, s->runs, s->worst_ratio,
+            s->median_ratio, s->nees_min, s->nees_max, s->nees_win_max, s->flagged, s->faulted, s->dtc, s->dtc_pending);
 }
 
 /* mkdir -p of the directory part of path; 0 on success (cli_make_dirs() does the work). */
@@ -431,7 +439,7 @@ int main(int argc, char **argv)
             return 1;
         }
         fprintf(csv, "section,unit,class,scenario,seed,rmse_filter_rad_s,rmse_diff_rad_s,ratio,nees_avg,nees_window_max,"
-                     "consistency_flagged,faults\n");
+                     "consistency_flagged,faults,dtc_confirmed,dtc_pending\n");
     }
 
     /* the nominal unit of class A, the paper's experiment, seed 1, with the same --params */
@@ -526,11 +534,20 @@ int main(int argc, char **argv)
                     run->nees_win_max = r.nees_window_max;
                     run->flagged = r.consistency_episodes > 0u;
                     run->faults = r.faults != 0u;
+                    run->dtc = 0u;
+                    run->dtc_pending = 0u;
+                    {
+                        int d;
+                        for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+                            run->dtc |= isfinite(r.dtc_confirm_t_s[d]) ? 1u << d : 0u;
+                            run->dtc_pending |= isfinite(r.dtc_pending_t_s[d]) ? 1u << d : 0u;
+                        }
+                    }
                     if (csv != NULL) {
-                        fprintf(csv, "%s,%llu,%s,%s,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d\n", sec == 0 ? "stops_varied" : "all_varied",
+                        fprintf(csv, "%s,%llu,%s,%s,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d,%lu,%lu\n", sec == 0 ? "stops_varied" : "all_varied",
                                 (unsigned long long)unit, plant_class_name(cls), sim_scenario_name(opt.scenario), s,
                                 run->rmse_filter, run->rmse_diff, run->ratio, run->nees_avg, run->nees_win_max, run->flagged,
-                                (int)r.faults);
+                                (int)r.faults, (unsigned long)run->dtc, (unsigned long)run->dtc_pending);
                     }
                 }
             }
@@ -553,8 +570,8 @@ int main(int argc, char **argv)
         printf("\n%s: units %llu..%llu, seeds %llu..%llu (ratio = differentiation RMSE / filter RMSE, velocity)\n",
                sec == 0 ? "stops_varied" : "all_varied", first_unit, first_unit + plants - 1u, first_seed,
                first_seed + seeds - 1u);
-        printf("  %-14s %5s  %8s  %8s  %9s  %9s  %9s  %5s  %5s\n", "scenario", "runs", "worst", "median", "NEES min",
-               "NEES max", "NEES 0.1s", "flag", "fault");
+        printf("  %-14s %5s  %8s  %8s  %9s  %9s  %9s  %5s  %5s  %5s  %5s\n", "scenario", "runs", "worst", "median", "NEES min",
+               "NEES max", "NEES 0.1s", "flag", "fault", "dtc", "dtcP");
         for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
             if (use_scn[k]) {
                 summarise(s_runs[sec], n_runs[sec], k, &s);

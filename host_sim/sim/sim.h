@@ -137,6 +137,7 @@ typedef struct {
     double nees;                /**< NEES of the application filter (NaN if P not PD) */
     int mode;                   /**< app_mode_t in force */
     uint32_t faults;            /**< latched APP_FAULT_* mask */
+    uint32_t dtc_confirmed;     /**< app_output_t::dtc_confirmed (bit per diag_dtc_t) */
     int ekf_status;             /**< status of the application filter's step */
     uint32_t missing_samples;   /**< samples missing before this one */
     double x_paper[TVM_NX];     /**< SIM_EST_PAPER_SETUP estimate */
@@ -171,6 +172,8 @@ typedef struct {
     uint32_t drop_tick_every;  /**< 0: never; N > 1: every N-th tick the application is not run
                                     (a missing sample, predicted across by the application) */
     FILE *csv;                 /**< NULL, or a stream for the CSV log (header + one line per tick) */
+    FILE *events;              /**< NULL, or a stream for the diagnostic events: header
+                                    "t_us,status,fault_class,dtc", one line per event (sim_events_header()) */
     sim_row_fn row_fn;         /**< NULL, or called once per tick */
     void *row_user;            /**< passed to row_fn */
 } sim_options_t;
@@ -193,6 +196,7 @@ typedef struct {
     uint32_t nis_n;             /**< N of that average */
     double nis_ch_avg[EKF_NCH]; /**< average NIS of each channel over its corrections (1 dof; NaN: unused) */
     uint32_t faults;            /**< latched APP_FAULT_* mask at the end */
+    uint32_t dtc_confirmed;     /**< diagnostic codes confirmed at the end (bit per diag_dtc_t) */
     uint32_t fault_ticks;       /**< ticks with any fault latched */
     double first_fault_t_s;     /**< time of the first fault [s], NaN if none */
     uint32_t ekf_rejections;    /**< ticks whose application-filter step failed */
@@ -218,6 +222,10 @@ typedef struct {
     double stop_learn_k;             /**< fitted contact stiffness [N m/rad^e] (NaN unless SL_DONE) */
     double stop_learn_exponent;      /**< fitted contact exponent (common to both stops; NaN unless SL_DONE) */
     double stop_learn_s;             /**< time the routine ran [s] */
+    double dtc_confirm_t_s[DIAG_DTC_COUNT]; /**< time of each code's first confirmation [s] (NaN: never) */
+    double dtc_pending_t_s[DIAG_DTC_COUNT]; /**< time of each code's first pending event [s] (NaN: never) */
+    uint32_t dtc_events;             /**< diagnostic events drained from the application */
+    uint32_t dtc_events_lost;        /**< events the application's queue dropped (diag_t::events_lost) */
     double stop_contact_speed_max;   /**< largest plant velocity INTO a stop [rad/s] at a tick whose plant
                                           angle was within SIM_CONTACT_NEAR_RAD of that stop or beyond it,
                                           while APP_MODE_STOP_LEARN was in force (NaN: never there) */
@@ -311,6 +319,12 @@ double sim_chi2_quantile(double p, double dof);
 
 /** Write the CSV header line (column names with units). @return TV_OK; TV_ERR_NULL; TV_ERR_IO. */
 int sim_csv_header(FILE *f);
+
+/** Write the diagnostic-event CSV header "t_us,status,fault_class,dtc". @return TV_OK; TV_ERR_NULL; TV_ERR_IO. */
+int sim_events_header(FILE *f);
+
+/** Write one diagnostic event as a CSV line. @return TV_OK; TV_ERR_NULL; TV_ERR_IO. */
+int sim_event_row(FILE *f, const diag_event_t *ev);
 
 /** Write one CSV line (%.9g). @return TV_OK; TV_ERR_NULL; TV_ERR_IO. */
 int sim_csv_row(FILE *f, const sim_row_t *row);

@@ -39,6 +39,10 @@ static void sim_result_clear(sim_result_t *res)
     res->stop_learn_closed_rad = res->stop_learn_open_rad = SIM_NAN;
     res->stop_learn_onset_closed_rad = res->stop_learn_onset_open_rad = res->stop_learn_k = res->stop_learn_exponent = SIM_NAN;
     res->stop_contact_speed_max = SIM_NAN;
+    for (e = 0; e < (int)DIAG_DTC_COUNT; ++e) {
+        res->dtc_confirm_t_s[e] = SIM_NAN;
+        res->dtc_pending_t_s[e] = SIM_NAN;
+    }
     sim_tracking_init(&res->tracking);
 }
 
@@ -261,6 +265,12 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
             return rc;
         }
     }
+    if (opt->events != NULL) {
+        rc = sim_events_header(opt->events);
+        if (rc != TV_OK) {
+            return rc;
+        }
+    }
 
     for (k = 0; k < n_ticks; ++k) {
         const double t_s = (double)k * SIM_TICK_S;
@@ -400,6 +410,26 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         }
         row.mode = (int)app->cfg.control.mode;
         row.faults = out.faults;
+        row.dtc_confirmed = out.dtc_confirmed;
+        {
+            /* the diagnostic events of this step (the application's queue, drained every tick) */
+            diag_event_t ev;
+            while (diag_event_pop(&app->diag, &ev)) {
+                double *first = ev.kind == DIAG_EV_CONFIRMED ? &res->dtc_confirm_t_s[ev.dtc]
+                                : ev.kind == DIAG_EV_PENDING ? &res->dtc_pending_t_s[ev.dtc]
+                                                             : NULL;
+                ++res->dtc_events;
+                if (first != NULL && !sim_finite(*first)) {
+                    *first = t_s;
+                }
+                if (opt->events != NULL) {
+                    rc = sim_event_row(opt->events, &ev);
+                    if (rc != TV_OK) {
+                        return rc;
+                    }
+                }
+            }
+        }
         row.ekf_status = out.ekf_status;
         row.missing_samples = out.missing_samples;
 
@@ -532,6 +562,16 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->nis_hi = sim_chi2_quantile(SIM_BAND_P_HI, side->nis_dof_sum) / n;
     }
     res->faults = app->faults;
+    res->dtc_confirmed = 0u;
+    {
+        int d;
+        for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+            if (diag_confirmed(&app->diag, (diag_dtc_t)d)) {
+                res->dtc_confirmed |= 1u << d;
+            }
+        }
+    }
+    res->dtc_events_lost = app->diag.events_lost;
     {
         tv_real_t dR;
         tv_real_t sR;
@@ -554,6 +594,9 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
     res->paper_printed_resets = side->printed.n_resets;
     res->paper_eq12_resets = side->eq12.n_resets;
     res->paper_eq12x_resets = side->eq12x.n_resets;
+    if (opt->events != NULL && fflush(opt->events) != 0) {
+        return TV_ERR_IO;
+    }
     if (opt->csv != NULL && fflush(opt->csv) != 0) {
         return TV_ERR_IO;
     }
