@@ -581,9 +581,6 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
             use_mask &= ~(EKF_CH_BIT(EKF_CH_ANGLE) | EKF_CH_BIT(EKF_CH_VELOCITY));
             out->degraded |= APP_DEGRADED_ANGLE;
         }
-        /* the supply only scales the voltage of the next period: it does not spoil this sample */
-        sample_ok = (use_mask & (EKF_CH_BIT(EKF_CH_CURRENT) | EKF_CH_BIT(EKF_CH_ANGLE))) != 0u;
-        angle_ok = (use_mask & EKF_CH_BIT(EKF_CH_ANGLE)) != 0u;
     }
     if (in->driver_fault) {
         app->faults |= APP_FAULT_DRIVER;
@@ -612,9 +609,11 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         default:
             break;
         }
-        sample_ok = (use_mask & (EKF_CH_BIT(EKF_CH_CURRENT) | EKF_CH_BIT(EKF_CH_ANGLE))) != 0u;
-        angle_ok = (use_mask & EKF_CH_BIT(EKF_CH_ANGLE)) != 0u;
     }
+    /* what this sample can correct with (after the plausibility checks and the track vote); the
+     * supply only scales the voltage of the next period: it does not spoil this sample */
+    sample_ok = (use_mask & (EKF_CH_BIT(EKF_CH_CURRENT) | EKF_CH_BIT(EKF_CH_ANGLE))) != 0u;
+    angle_ok = (use_mask & EKF_CH_BIT(EKF_CH_ANGLE)) != 0u;
 
     /* Estimator: predict across every elapsed period with the voltage that was applied, then
      * correct with this sample if it is plausible. */

@@ -26,13 +26,13 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
 
 int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
 {
-    size_t k;
     if (dd == NULL || cfg == NULL) {
         return TV_ERR_NULL;
     }
     {
         const tv_real_t all[] = {cfg->tps_disagree_rad, cfg->tps_vote_frac, cfg->jam_error_rad, cfg->jam_u_min_V,
                                  cfg->jam_break_factor, cfg->jam_still_rad, cfg->open_u_min_V,  cfg->open_i_max_A};
+        size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
                 return TV_ERR_NONFINITE;
@@ -63,9 +63,6 @@ diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv
 {
     diag_snapshot_t s;
     tv_real_t dis;
-    tv_real_t e1;
-    tv_real_t e2;
-    tv_real_t tol;
     diag_result_t r1 = DIAG_NOT_RUN;
     diag_result_t r2 = DIAG_NOT_RUN;
     diag_result_t rc = DIAG_NOT_RUN;
@@ -82,9 +79,9 @@ diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv
     if (dis <= dd->cfg.tps_disagree_rad) {
         r1 = r2 = rc = DIAG_PASS;
     } else {
-        e1 = TV_FABS(phi1_rad - phi_pred_rad);
-        e2 = TV_FABS(phi2_rad - phi_pred_rad);
-        tol = dd->cfg.tps_vote_frac * dis;
+        const tv_real_t e1 = TV_FABS(phi1_rad - phi_pred_rad);
+        const tv_real_t e2 = TV_FABS(phi2_rad - phi_pred_rad);
+        const tv_real_t tol = dd->cfg.tps_vote_frac * dis;
         if (e2 <= tol && e2 < e1) {
             r1 = DIAG_FAIL; /* track 1 named */
             r2 = rc = DIAG_PASS;

@@ -764,7 +764,6 @@ int plant_sample(plant_t *plant, plant_adc_t *out)
     double n_e1_V;
     double n_e2_V;
     double n_s_V;
-    double x;
     double full_scale;
     double counts_per_V;
     double max_counts;
@@ -787,6 +786,7 @@ int plant_sample(plant_t *plant, plant_adc_t *out)
     {
         const plant_faults_t *f = &plant->faults;
         double track_V[2];
+        double x;
         int ch;
         out->current_pin_V = cfg->current_offset_V + cfg->current_gain_V_A * (1.0 + f->current_gain_err) *
                                                          (plant->current_A + n_i_A + f->current_offset_A);

@@ -24,35 +24,35 @@ typedef struct {
     const char *name;
     const char *fault_class;
     const char *help;
-    pf_shape_t shape;
     double lo;      /**< magnitude > lo (or >= lo when lo_incl) */
-    int lo_incl;
     double hi;      /**< magnitude <= hi (< hi when not hi_incl) */
+    pf_shape_t shape;
+    int lo_incl;
     int hi_incl;
-    int signed_mag; /**< 1: |magnitude| is checked against (0, hi], the sign is free */
+    int signed_mag; /**< 1: |magnitude| is checked against (lo, hi], the sign is free */
     int ramp_ok;    /**< 1: a ramp is allowed */
 } pf_kind_info_t;
 
 static const pf_kind_info_t s_kinds[PLANT_FAULT_KIND_COUNT] = {
-    {"friction_high", "friction_high", "factor on Coulomb Mc and static Ms [-], (1, 10]", PF_FACTOR, 1.0, 0, 10.0, 1, 0, 1},
-    {"jam", "jam", "holding torque [N m], (0, 100]; no ramp", PF_ADDITIVE, 0.0, 0, 100.0, 1, 0, 0},
-    {"spring_weak", "spring_weak", "remaining fraction of preload M0 and rate c [-], [0, 1)", PF_FACTOR, 0.0, 1, 1.0, 0, 0, 1},
-    {"winding_resistance_high", "winding_resistance_high", "factor on R [-], (1, 10]", PF_FACTOR, 1.0, 0, 10.0, 1, 0, 1},
-    {"winding_open", "winding_open", "no magnitude; no ramp", PF_SWITCH, 0.0, 0, 0.0, 1, 0, 0},
-    {"winding_short", "winding_short", "shorted fraction of the turns [-], (0, 0.9]", PF_ADDITIVE, 0.0, 0, 0.9, 1, 0, 1},
-    {"tps1_offset", "tps1_fault", "offset [% of the sensor supply], signed, 0 < |m| <= 50", PF_ADDITIVE, 0.0, 0, 50.0, 1, 1, 1},
-    {"tps1_gain", "tps1_fault", "gain error [%], signed, 0 < |m|, -100 < m <= 100", PF_ADDITIVE, 0.0, 0, 100.0, 1, 1, 1},
-    {"tps1_stuck", "tps1_fault", "no magnitude; no ramp", PF_SWITCH, 0.0, 0, 0.0, 1, 0, 0},
-    {"tps1_intermittent", "tps1_fault", "probability per conversion of reading 0 V [-], (0, 1]", PF_ADDITIVE, 0.0, 0, 1.0, 1, 0, 1},
-    {"tps2_offset", "tps2_fault", "offset [% of the sensor supply], signed, 0 < |m| <= 50", PF_ADDITIVE, 0.0, 0, 50.0, 1, 1, 1},
-    {"tps2_gain", "tps2_fault", "gain error [%], signed, 0 < |m|, -100 < m <= 100", PF_ADDITIVE, 0.0, 0, 100.0, 1, 1, 1},
-    {"tps2_stuck", "tps2_fault", "no magnitude; no ramp", PF_SWITCH, 0.0, 0, 0.0, 1, 0, 0},
-    {"tps2_intermittent", "tps2_fault", "probability per conversion of reading 0 V [-], (0, 1]", PF_ADDITIVE, 0.0, 0, 1.0, 1, 0, 1},
-    {"current_offset", "current_sensor_fault", "offset referred to the winding current [A], signed, 0 < |m| <= 10", PF_ADDITIVE, 0.0, 0, 10.0, 1, 1, 1},
-    {"current_gain", "current_sensor_fault", "gain error [%], signed, 0 < |m|, -100 < m <= 100", PF_ADDITIVE, 0.0, 0, 100.0, 1, 1, 1},
-    {"bridge_pos_lost", "bridge_fault", "no magnitude; no ramp (positive duty gives 0 V)", PF_SWITCH, 0.0, 0, 0.0, 1, 0, 0},
-    {"bridge_neg_lost", "bridge_fault", "no magnitude; no ramp (negative duty gives 0 V)", PF_SWITCH, 0.0, 0, 0.0, 1, 0, 0},
-    {"supply_sag", "supply_sag", "drop of the bridge supply [V], (0, 100], below the unit's supply", PF_ADDITIVE, 0.0, 0, 100.0, 1, 0, 1},
+    {"friction_high", "friction_high", "factor on Coulomb Mc and static Ms [-], (1, 10]", 1.0, 10.0, PF_FACTOR, 0, 1, 0, 1},
+    {"jam", "jam", "holding torque [N m], (0, 100]; no ramp", 0.0, 100.0, PF_ADDITIVE, 0, 1, 0, 0},
+    {"spring_weak", "spring_weak", "remaining fraction of preload M0 and rate c [-], [0, 1)", 0.0, 1.0, PF_FACTOR, 1, 0, 0, 1},
+    {"winding_resistance_high", "winding_resistance_high", "factor on R [-], (1, 10]", 1.0, 10.0, PF_FACTOR, 0, 1, 0, 1},
+    {"winding_open", "winding_open", "no magnitude; no ramp", 0.0, 0.0, PF_SWITCH, 0, 1, 0, 0},
+    {"winding_short", "winding_short", "shorted fraction of the turns [-], (0, 0.9]", 0.0, 0.9, PF_ADDITIVE, 0, 1, 0, 1},
+    {"tps1_offset", "tps1_fault", "offset [% of the sensor supply], signed, 0 < |m| <= 50", 0.0, 50.0, PF_ADDITIVE, 0, 1, 1, 1},
+    {"tps1_gain", "tps1_fault", "gain error [%], signed, 0 < |m|, -100 < m <= 100", 0.0, 100.0, PF_ADDITIVE, 0, 1, 1, 1},
+    {"tps1_stuck", "tps1_fault", "no magnitude; no ramp", 0.0, 0.0, PF_SWITCH, 0, 1, 0, 0},
+    {"tps1_intermittent", "tps1_fault", "probability per conversion of reading 0 V [-], (0, 1]", 0.0, 1.0, PF_ADDITIVE, 0, 1, 0, 1},
+    {"tps2_offset", "tps2_fault", "offset [% of the sensor supply], signed, 0 < |m| <= 50", 0.0, 50.0, PF_ADDITIVE, 0, 1, 1, 1},
+    {"tps2_gain", "tps2_fault", "gain error [%], signed, 0 < |m|, -100 < m <= 100", 0.0, 100.0, PF_ADDITIVE, 0, 1, 1, 1},
+    {"tps2_stuck", "tps2_fault", "no magnitude; no ramp", 0.0, 0.0, PF_SWITCH, 0, 1, 0, 0},
+    {"tps2_intermittent", "tps2_fault", "probability per conversion of reading 0 V [-], (0, 1]", 0.0, 1.0, PF_ADDITIVE, 0, 1, 0, 1},
+    {"current_offset", "current_sensor_fault", "offset referred to the winding current [A], signed, 0 < |m| <= 10", 0.0, 10.0, PF_ADDITIVE, 0, 1, 1, 1},
+    {"current_gain", "current_sensor_fault", "gain error [%], signed, 0 < |m|, -100 < m <= 100", 0.0, 100.0, PF_ADDITIVE, 0, 1, 1, 1},
+    {"bridge_pos_lost", "bridge_fault", "no magnitude; no ramp (positive duty gives 0 V)", 0.0, 0.0, PF_SWITCH, 0, 1, 0, 0},
+    {"bridge_neg_lost", "bridge_fault", "no magnitude; no ramp (negative duty gives 0 V)", 0.0, 0.0, PF_SWITCH, 0, 1, 0, 0},
+    {"supply_sag", "supply_sag", "drop of the bridge supply [V], (0, 100], below the unit's supply", 0.0, 100.0, PF_ADDITIVE, 0, 1, 0, 1},
 };
 
 const char *plant_fault_kind_name(plant_fault_kind_t kind)
@@ -76,7 +76,8 @@ static int pf_fail(char *msg, size_t cap, int rc, const char *fmt, ...)
     if (msg != NULL && cap > 0u) {
         va_list ap;
         va_start(ap, fmt);
-        (void)vsnprintf(msg, cap, fmt, ap);
+        /* va_start is right above: a false positive of clang-analyzer-valist.Uninitialized (as in params.c) */
+        (void)vsnprintf(msg, cap, fmt, ap); /* NOLINT(clang-analyzer-valist.Uninitialized) */
         va_end(ap);
     }
     return rc;
@@ -201,7 +202,7 @@ void plant_fault_list_clear(plant_fault_list_t *list)
 
 int plant_fault_list_add(plant_fault_list_t *list, const char *text, char *msg, size_t cap)
 {
-    plant_fault_spec_t f;
+    plant_fault_spec_t f = {PLANT_FAULT_KIND_COUNT, 0.0, 0.0, 0.0};
     unsigned k;
     int rc;
     if (list == NULL) {
