@@ -23,11 +23,10 @@ static diag_snapshot_t snap_at(uint64_t t_us)
     s.t_us = t_us;
     s.x[0] = (tv_real_t)t_us * TV_R(1e-3);
     s.x[2] = TV_R(0.5);
-    s.sigma[2] = TV_R(1e-4);
+    s.var[2] = TV_R(1e-8);
     s.r_est_ohm = TV_R(4.3);
     s.supply_V = TV_R(13.5);
     s.duty = TV_R(0.25);
-    s.value = (tv_real_t)t_us;
     return s;
 }
 
@@ -59,13 +58,13 @@ static void test_confirms_at_exactly_the_documented_failing_sample(void)
         diag_init(&d);
         for (s = 1u; s < n; ++s) {
             diag_snapshot_t sn = snap_at(s);
-            TV_CHECK_EQ_INT(diag_report(&d, (diag_dtc_t)k, DIAG_FAIL, &sn), TV_OK);
+            TV_CHECK_EQ_INT(diag_report(&d, (diag_dtc_t)k, DIAG_FAIL, &sn, (tv_real_t)sn.t_us), TV_OK);
         }
         TV_CHECK_EQ_INT(diag_confirmed(&d, (diag_dtc_t)k), 0);
         TV_CHECK_EQ_INT(diag_pending(&d, (diag_dtc_t)k), n > 1u);
         {
             diag_snapshot_t sn = snap_at(n);
-            TV_CHECK_EQ_INT(diag_report(&d, (diag_dtc_t)k, DIAG_FAIL, &sn), TV_OK);
+            TV_CHECK_EQ_INT(diag_report(&d, (diag_dtc_t)k, DIAG_FAIL, &sn, (tv_real_t)sn.t_us), TV_OK);
         }
         TV_CHECK_EQ_INT(diag_confirmed(&d, (diag_dtc_t)k), 1);
         TV_CHECK_EQ_INT(diag_event_pop(&d, &ev), 1);
@@ -82,6 +81,9 @@ static void test_confirms_at_exactly_the_documented_failing_sample(void)
         TV_CHECK_NEAR(d.code[k].freeze.x[0], (double)((tv_real_t)n * TV_R(1e-3)), 0.0);
         TV_CHECK_NEAR(d.code[k].freeze.value, (double)n, 0.0);
         TV_CHECK_NEAR(d.code[k].freeze.supply_V, 13.5, 0.0);
+        TV_CHECK_NEAR(d.code[k].freeze.sigma[2], 1e-4, 1e-4 * 1e-6); /* sqrt of the variance 1e-8 */
+        TV_CHECK_NEAR(d.code[k].freeze.sigma[0], 0.0, 0.0);
+        TV_CHECK_NEAR(d.code[k].freeze.duty, 0.25, 0.0);
         TV_CHECK_EQ_INT(d.code[k].confirmations, 1);
     }
 }
@@ -98,7 +100,7 @@ static void test_leaky_counter_confirms_late_and_forgets(void)
     diag_init(&d);
     for (t = 1u; t <= 200u; ++t) {
         diag_snapshot_t sn = snap_at(t);
-        (void)diag_report(&d, DIAG_DTC_P2100, (t % 2u) ? DIAG_FAIL : DIAG_PASS, &sn);
+        (void)diag_report(&d, DIAG_DTC_P2100, (t % 2u) ? DIAG_FAIL : DIAG_PASS, &sn, (tv_real_t)sn.t_us);
         while (diag_event_pop(&d, &ev)) {
             pend += ev.kind == DIAG_EV_PENDING;
             TV_CHECK(ev.kind == DIAG_EV_PENDING);
@@ -110,18 +112,18 @@ static void test_leaky_counter_confirms_late_and_forgets(void)
     diag_init(&d);
     for (t = 1u; t <= 30u && !diag_confirmed(&d, DIAG_DTC_P2100); ++t) {
         diag_snapshot_t sn = snap_at(t);
-        (void)diag_report(&d, DIAG_DTC_P2100, (t % 3u) == 0u ? DIAG_PASS : DIAG_FAIL, &sn);
+        (void)diag_report(&d, DIAG_DTC_P2100, (t % 3u) == 0u ? DIAG_PASS : DIAG_FAIL, &sn, (tv_real_t)sn.t_us);
     }
     TV_CHECK_EQ_INT(t - 1u, 3u * (5u - 2u) + 2u);
     /* DIAG_NOT_RUN changes nothing, whatever it is given */
     {
         const diag_t before = d;
-        TV_CHECK_EQ_INT(diag_report(&d, DIAG_DTC_P2100, DIAG_NOT_RUN, NULL), TV_OK);
+        TV_CHECK_EQ_INT(diag_report(&d, DIAG_DTC_P2100, DIAG_NOT_RUN, NULL, TV_R(0.0)), TV_OK);
         TV_CHECK(memcmp(&before, &d, sizeof d) == 0);
-        TV_CHECK_EQ_INT(diag_report(&d, DIAG_DTC_COUNT, DIAG_FAIL, NULL), TV_ERR_RANGE);
-        TV_CHECK_EQ_INT(diag_report(&d, DIAG_DTC_P0121, (diag_result_t)7, NULL), TV_ERR_RANGE);
-        TV_CHECK_EQ_INT(diag_report(&d, DIAG_DTC_P0121, DIAG_FAIL, NULL), TV_ERR_NULL);
-        TV_CHECK_EQ_INT(diag_report(NULL, DIAG_DTC_P0121, DIAG_PASS, NULL), TV_ERR_NULL);
+        TV_CHECK_EQ_INT(diag_report(&d, DIAG_DTC_COUNT, DIAG_FAIL, NULL, TV_R(0.0)), TV_ERR_RANGE);
+        TV_CHECK_EQ_INT(diag_report(&d, DIAG_DTC_P0121, (diag_result_t)7, NULL, TV_R(0.0)), TV_ERR_RANGE);
+        TV_CHECK_EQ_INT(diag_report(&d, DIAG_DTC_P0121, DIAG_FAIL, NULL, TV_R(0.0)), TV_ERR_NULL);
+        TV_CHECK_EQ_INT(diag_report(NULL, DIAG_DTC_P0121, DIAG_PASS, NULL, TV_R(0.0)), TV_ERR_NULL);
         TV_CHECK(memcmp(&before, &d, sizeof d) == 0);
     }
 }
@@ -137,28 +139,28 @@ static void test_heals_after_exactly_heal_count_passes(void)
     diag_init(&d);
     for (k = 0; k < n; ++k) {
         diag_snapshot_t sn = snap_at(++t);
-        (void)diag_report(&d, DIAG_DTC_P0121, DIAG_FAIL, &sn);
+        (void)diag_report(&d, DIAG_DTC_P0121, DIAG_FAIL, &sn, (tv_real_t)sn.t_us);
     }
     TV_CHECK_EQ_INT(diag_action(&d), DIAG_ACTION_LIMITED);
     /* h - 1 passes, a failure (restarts the count), then h - 1 passes: still confirmed */
     for (k = 0; k + 1u < h; ++k) {
         diag_snapshot_t sn = snap_at(++t);
-        (void)diag_report(&d, DIAG_DTC_P0121, DIAG_PASS, &sn);
+        (void)diag_report(&d, DIAG_DTC_P0121, DIAG_PASS, &sn, (tv_real_t)sn.t_us);
     }
     {
         diag_snapshot_t sn = snap_at(++t);
-        (void)diag_report(&d, DIAG_DTC_P0121, DIAG_FAIL, &sn);
+        (void)diag_report(&d, DIAG_DTC_P0121, DIAG_FAIL, &sn, (tv_real_t)sn.t_us);
     }
     for (k = 0; k + 1u < h; ++k) {
         diag_snapshot_t sn = snap_at(++t);
-        (void)diag_report(&d, DIAG_DTC_P0121, DIAG_PASS, &sn);
+        (void)diag_report(&d, DIAG_DTC_P0121, DIAG_PASS, &sn, (tv_real_t)sn.t_us);
     }
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P0121), 1);
     /* the freeze frame is still the first confirmation's: a failure while confirmed does not retake it */
     TV_CHECK_EQ_INT(d.code[DIAG_DTC_P0121].freeze.t_us, n);
     {
         diag_snapshot_t sn = snap_at(++t);
-        (void)diag_report(&d, DIAG_DTC_P0121, DIAG_PASS, &sn);
+        (void)diag_report(&d, DIAG_DTC_P0121, DIAG_PASS, &sn, (tv_real_t)sn.t_us);
     }
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P0121), 0);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P0121), 0);
@@ -174,8 +176,8 @@ static void test_heals_after_exactly_heal_count_passes(void)
     /* the largest action wins */
     for (k = 0; k < n; ++k) {
         diag_snapshot_t sn = snap_at(++t);
-        (void)diag_report(&d, DIAG_DTC_P0221, DIAG_FAIL, &sn);
-        (void)diag_report(&d, DIAG_DTC_P2100, DIAG_FAIL, &sn);
+        (void)diag_report(&d, DIAG_DTC_P0221, DIAG_FAIL, &sn, (tv_real_t)sn.t_us);
+        (void)diag_report(&d, DIAG_DTC_P2100, DIAG_FAIL, &sn, (tv_real_t)sn.t_us);
     }
     TV_CHECK_EQ_INT(diag_action(&d), DIAG_ACTION_SAFE);
     diag_clear(&d);
@@ -192,8 +194,8 @@ static void test_queue_overflow_is_counted(void)
     diag_init(&d);
     for (k = 0; k < DIAG_EVENT_QUEUE_LEN + 4u; ++k) {
         diag_snapshot_t sn = snap_at(k + 1u);
-        (void)diag_report(&d, DIAG_DTC_P2100, DIAG_FAIL, &sn);
-        (void)diag_report(&d, DIAG_DTC_P2100, DIAG_PASS, &sn);
+        (void)diag_report(&d, DIAG_DTC_P2100, DIAG_FAIL, &sn, (tv_real_t)sn.t_us);
+        (void)diag_report(&d, DIAG_DTC_P2100, DIAG_PASS, &sn, (tv_real_t)sn.t_us);
     }
     TV_CHECK_EQ_INT(d.events_lost, 4);
     for (k = 0; k < DIAG_EVENT_QUEUE_LEN; ++k) {

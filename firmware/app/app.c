@@ -417,19 +417,24 @@ static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
 /* Diagnostic codes (firmware/diag/): the detectors' calls and the codes' actions              */
 /* ------------------------------------------------------------------------------------------ */
 
-/* What a confirmation freezes: time, the estimate before this sample, R + dR, supply, duty. */
+/* What a confirmation freezes (one snapshot per step): time, the estimate before this sample
+ * and its variances, R + dR, supply, the duty of the period that ended. */
 static void app_diag_snapshot(const app_t *app, const app_input_t *in, const app_output_t *out, diag_snapshot_t *s)
 {
+    tv_real_t P[TVM_NX][TVM_NX];
     tv_real_t dR;
     tv_real_t sR;
+    int a;
     s->t_us = in->t_us;
     ekf_state(&app->ekf, s->x);
-    ekf_sigma(&app->ekf, s->sigma);
+    ekf_covariance(&app->ekf, P);
+    for (a = 0; a < TVM_NX; ++a) {
+        s->var[a] = P[a][a];
+    }
     ekf_resistance_error(&app->ekf, &dR, &sR);
     s->r_est_ohm = app->ekf.model.p.R_ohm + dR;
     s->supply_V = out->supply_V;
     s->duty = out->supply_V > TV_R(0.0) ? app->u_applied_V / out->supply_V : TV_R(0.0);
-    s->value = TV_R(0.0);
 }
 
 /* Before the estimator: the track vote against the estimate moved on by one period (the
@@ -450,13 +455,12 @@ static diag_tps_use_t app_diag_pre(app_t *app, const app_input_t *in, tv_real_t 
 
 /* After the control law: the action of the confirmed codes on the outputs, then the jam check
  * on what is really applied (a plate the bridge no longer drives is not judged). */
-static void app_diag_post(app_t *app, app_output_t *out)
+static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t *out)
 {
     const app_control_t *c = &app->cfg.control;
     const tvm_params_t *p = &app->cfg.model;
     const uint8_t was_on = app->diag_bridge_on;
     diag_action_t action = diag_action(&app->diag);
-    int k;
     if (c->mode == APP_MODE_EXTERNAL) {
         /* another controller drives: the outputs echo it (or are safe), the model keeps what it applies */
         if (action == DIAG_ACTION_SAFE) {
@@ -478,26 +482,14 @@ static void app_diag_post(app_t *app, app_output_t *out)
         app->diag_bridge_on = out->bridge_enable;
     }
     {
-        diag_snapshot_t snap;
-        app_input_t now;
-        memset(&now, 0, sizeof now);
-        now.t_us = app->last_t_us;
-        app_diag_snapshot(app, &now, out, &snap);
         /* the model's breakaway voltage here: preload, spring and static friction at stall */
         const tv_real_t u_break_V =
             p->R_ohm * (p->M0_Nm + p->c_Nm_rad * TV_FABS(out->x[TVM_PHI]) + p->Ms_Nm) / (p->n_gear * p->Kt_Nm_A);
         diag_jam_check(&app->ddet, &app->diag, c->mode == APP_MODE_POSITION && out->bridge_enable && was_on,
                        clamp(c->target_rad, p->phi_closed_rad + c->target_margin_rad, p->phi_open_rad - c->target_margin_rad),
-                       out->x[TVM_PHI], app->u_applied_V, u_break_V, &snap);
+                       out->x[TVM_PHI], app->u_applied_V, u_break_V, snap);
     }
-    action = diag_action(&app->diag);
-    out->dtc_action = (uint8_t)action;
-    out->dtc_confirmed = 0u;
-    for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
-        if (diag_confirmed(&app->diag, (diag_dtc_t)k)) {
-            out->dtc_confirmed |= 1u << k;
-        }
-    }
+    out->dtc_action = (uint8_t)diag_summary(&app->diag, &out->dtc_confirmed);
 }
 
 void app_step(app_t *app, const app_input_t *in, app_output_t *out)
@@ -513,6 +505,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     tv_real_t angle;
     tv_real_t current;
     ekf_meas_t meas;
+    diag_snapshot_t dsnap; /* the diagnostic codes' snapshot of this step */
     uint32_t k;
     if (app == NULL || in == NULL || out == NULL) {
         return;
@@ -587,10 +580,9 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     }
 
     /* ---- Diagnostics before the estimator (firmware/diag/diag_detect.h) ---- */
+    app_diag_snapshot(app, in, out, &dsnap);
     {
-        diag_snapshot_t snap;
-        app_diag_snapshot(app, in, out, &snap);
-        switch (app_diag_pre(app, in, phi1, phi2, current, &snap)) {
+        switch (app_diag_pre(app, in, phi1, phi2, current, &dsnap)) {
         case DIAG_TPS_ONLY1: /* track 2 named: track 1 alone */
             angle = phi1;
             use_mask |= EKF_CH_BIT(EKF_CH_ANGLE) | EKF_CH_BIT(EKF_CH_VELOCITY);
@@ -701,7 +693,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         ekf_resistance_error(&app->ekf, &dR, &out->r_sigma_ohm);
         out->r_est_ohm = app->ekf.model.p.R_ohm + dR;
     }
-    app_diag_post(app, out); /* diagnostics after the control law: jam check, the codes' actions */
+    app_diag_post(app, &dsnap, out); /* diagnostics after the control law: the codes' actions, jam check */
     out->faults = app->faults;
     ++app->n_steps;
 }

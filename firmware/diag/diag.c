@@ -73,7 +73,7 @@ static void diag_push(diag_t *d, uint64_t t_us, diag_dtc_t dtc, diag_event_kind_
     ++d->q_count;
 }
 
-int diag_report(diag_t *d, diag_dtc_t dtc, diag_result_t res, const diag_snapshot_t *snap)
+int diag_report(diag_t *d, diag_dtc_t dtc, diag_result_t res, const diag_snapshot_t *snap, tv_real_t value)
 {
     const diag_dtc_info_t *info;
     diag_code_state_t *c;
@@ -120,7 +120,18 @@ int diag_report(diag_t *d, diag_dtc_t dtc, diag_result_t res, const diag_snapsho
     if (c->counter >= info->confirm_count) {
         c->confirmed = 1u;
         c->passes = 0u;
-        c->freeze = *snap;
+        {
+            int a;
+            c->freeze.t_us = snap->t_us;
+            for (a = 0; a < TVM_NX; ++a) {
+                c->freeze.x[a] = snap->x[a];
+                c->freeze.sigma[a] = snap->var[a] > TV_R(0.0) ? TV_SQRT(snap->var[a]) : TV_R(0.0);
+            }
+            c->freeze.r_est_ohm = snap->r_est_ohm;
+            c->freeze.supply_V = snap->supply_V;
+            c->freeze.duty = snap->duty;
+            c->freeze.value = value;
+        }
         c->has_freeze = 1u;
         if (c->confirmations < 0xFFFFFFFFu) {
             ++c->confirmations;
@@ -140,19 +151,30 @@ int diag_pending(const diag_t *d, diag_dtc_t dtc)
     return d != NULL && (unsigned)dtc < (unsigned)DIAG_DTC_COUNT && !d->code[dtc].confirmed && d->code[dtc].counter > 0u;
 }
 
-diag_action_t diag_action(const diag_t *d)
+diag_action_t diag_summary(const diag_t *d, uint32_t *confirmed)
 {
     diag_action_t a = DIAG_ACTION_NONE;
+    uint32_t mask = 0u;
     int k;
-    if (d == NULL) {
-        return a;
-    }
-    for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
-        if (d->code[k].confirmed && s_dtc[k].action > a) {
-            a = s_dtc[k].action;
+    if (d != NULL) {
+        for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
+            if (d->code[k].confirmed) {
+                mask |= 1u << k;
+                if (s_dtc[k].action > a) {
+                    a = s_dtc[k].action;
+                }
+            }
         }
     }
+    if (confirmed != NULL) {
+        *confirmed = mask;
+    }
     return a;
+}
+
+diag_action_t diag_action(const diag_t *d)
+{
+    return diag_summary(d, NULL);
 }
 
 int diag_event_pop(diag_t *d, diag_event_t *ev)

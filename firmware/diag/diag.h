@@ -88,7 +88,17 @@ typedef struct {
     diag_action_t action;    /**< what the code does while confirmed */
 } diag_dtc_info_t;
 
-/** What the application knows at a step: the freeze frame is a copy of it at confirmation. */
+/** What the application knows at a step; a confirmation freezes it (diag_freeze_t). */
+typedef struct {
+    uint64_t t_us;                /**< sample time [us] */
+    tv_real_t x[TVM_NX];          /**< estimate (A, rad/s, rad) */
+    tv_real_t var[TVM_NX];        /**< its VARIANCES (the diagonal of P; square roots are taken only at a confirmation) */
+    tv_real_t r_est_ohm;          /**< winding resistance R + dR [ohm] */
+    tv_real_t supply_V;           /**< measured supply [V] */
+    tv_real_t duty;               /**< duty applied over the period that ended [-] */
+} diag_snapshot_t;
+
+/** Freeze frame: the snapshot of the confirming check. */
 typedef struct {
     uint64_t t_us;                /**< sample time [us] */
     tv_real_t x[TVM_NX];          /**< estimate (A, rad/s, rad) */
@@ -96,8 +106,8 @@ typedef struct {
     tv_real_t r_est_ohm;          /**< winding resistance R + dR [ohm] */
     tv_real_t supply_V;           /**< measured supply [V] */
     tv_real_t duty;               /**< duty applied over the period that ended [-] */
-    tv_real_t value;              /**< the detector's test statistic at that step (unit per code: see the README's DTC table) */
-} diag_snapshot_t;
+    tv_real_t value;              /**< the detector's test statistic (unit per code: the README's DTC table) */
+} diag_freeze_t;
 
 /** One event. */
 typedef struct {
@@ -113,7 +123,7 @@ typedef struct {
     uint8_t confirmed;       /**< 1: confirmed (action in force) */
     uint8_t has_freeze;      /**< 1: freeze holds the last confirmation's frame */
     uint32_t confirmations;  /**< times confirmed since diag_init() */
-    diag_snapshot_t freeze;  /**< freeze frame of the last confirmation */
+    diag_freeze_t freeze;    /**< freeze frame of the last confirmation */
 } diag_code_state_t;
 
 /** All codes and the event queue. Allocate statically; diag_init() before use. */
@@ -139,12 +149,13 @@ void diag_init(diag_t *d);
  * @param d     the codes
  * @param dtc   which code
  * @param res   DIAG_PASS, DIAG_FAIL or DIAG_NOT_RUN
- * @param snap  the step's snapshot (copied into the freeze frame at confirmation); may be NULL
- *              only with DIAG_NOT_RUN or DIAG_PASS
+ * @param snap  the step's snapshot (the freeze frame at confirmation); may be NULL only with
+ *              DIAG_NOT_RUN or DIAG_PASS (a pass then has time 0 in its healed event)
+ * @param value the detector's test statistic (kept in the freeze frame)
  * @return TV_OK; TV_ERR_NULL (d NULL, or snap NULL with DIAG_FAIL); TV_ERR_RANGE (bad dtc or
  *         res). On error nothing changes.
  */
-int diag_report(diag_t *d, diag_dtc_t dtc, diag_result_t res, const diag_snapshot_t *snap);
+int diag_report(diag_t *d, diag_dtc_t dtc, diag_result_t res, const diag_snapshot_t *snap, tv_real_t value);
 
 /** 1 when the code is confirmed, else 0 (also for NULL or a bad code). */
 int diag_confirmed(const diag_t *d, diag_dtc_t dtc);
@@ -154,6 +165,12 @@ int diag_pending(const diag_t *d, diag_dtc_t dtc);
 
 /** The largest action of the confirmed codes (DIAG_ACTION_NONE when none, or d NULL). */
 diag_action_t diag_action(const diag_t *d);
+
+/**
+ * diag_action() and the confirmed codes in one pass (the application's step).
+ * @param confirmed  NULL, or receives bit (1u << dtc) of every confirmed code
+ */
+diag_action_t diag_summary(const diag_t *d, uint32_t *confirmed);
 
 /**
  * Take the oldest event.

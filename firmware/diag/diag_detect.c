@@ -50,18 +50,9 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     return TV_OK;
 }
 
-/* The snapshot with its value set. */
-static diag_snapshot_t with_value(const diag_snapshot_t *snap, tv_real_t value)
-{
-    diag_snapshot_t s = *snap;
-    s.value = value;
-    return s;
-}
-
 diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv_real_t phi1_rad, tv_real_t phi2_rad,
                              tv_real_t phi_pred_rad, const diag_snapshot_t *snap)
 {
-    diag_snapshot_t s;
     tv_real_t dis;
     diag_result_t r1 = DIAG_NOT_RUN;
     diag_result_t r2 = DIAG_NOT_RUN;
@@ -75,7 +66,6 @@ diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv
         return DIAG_TPS_BOTH;
     }
     dis = TV_FABS(phi1_rad - phi2_rad);
-    s = with_value(snap, dis);
     if (dis <= dd->cfg.tps_disagree_rad) {
         r1 = r2 = rc = DIAG_PASS;
     } else {
@@ -94,9 +84,9 @@ diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv
             rc = DIAG_FAIL;
         }
     }
-    (void)diag_report(d, DIAG_DTC_P0121, r1, &s);
-    (void)diag_report(d, DIAG_DTC_P0221, r2, &s);
-    (void)diag_report(d, DIAG_DTC_P2135, rc, &s);
+    (void)diag_report(d, DIAG_DTC_P0121, r1, snap, dis);
+    (void)diag_report(d, DIAG_DTC_P0221, r2, snap, dis);
+    (void)diag_report(d, DIAG_DTC_P2135, rc, snap, dis);
     /* a named track stays out while its code is pending or confirmed */
     if (dd->tps_named == 1u && !diag_pending(d, DIAG_DTC_P0121) && !diag_confirmed(d, DIAG_DTC_P0121)) {
         dd->tps_named = 0u;
@@ -120,7 +110,6 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
     tv_real_t oldest;
     tv_real_t e;
     diag_dtc_t code;
-    diag_snapshot_t s;
     if (dd == NULL || d == NULL || snap == NULL || !TV_IS_FINITE(phi_est_rad)) {
         return;
     }
@@ -136,10 +125,9 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
         return;
     }
     e = target_rad - phi_est_rad;
-    s = with_value(snap, TV_FABS(e));
     if (TV_FABS(e) < dd->cfg.jam_error_rad) {
-        (void)diag_report(d, DIAG_DTC_P2111, DIAG_PASS, &s);
-        (void)diag_report(d, DIAG_DTC_P2112, DIAG_PASS, &s);
+        (void)diag_report(d, DIAG_DTC_P2111, DIAG_PASS, snap, TV_FABS(e));
+        (void)diag_report(d, DIAG_DTC_P2112, DIAG_PASS, snap, TV_FABS(e));
         return;
     }
     if (!(u_V * e > TV_R(0.0)) || TV_FABS(u_V) < dd->cfg.jam_u_min_V ||
@@ -147,13 +135,12 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
         return; /* not pushing toward the target: nothing to judge */
     }
     code = e > TV_R(0.0) ? DIAG_DTC_P2112 : DIAG_DTC_P2111;
-    (void)diag_report(d, code, TV_FABS(phi_est_rad - oldest) < dd->cfg.jam_still_rad ? DIAG_FAIL : DIAG_PASS, &s);
+    (void)diag_report(d, code, TV_FABS(phi_est_rad - oldest) < dd->cfg.jam_still_rad ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(e));
 }
 
 void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, tv_real_t current_A,
                      const diag_snapshot_t *snap)
 {
-    diag_snapshot_t s;
     if (dd == NULL || d == NULL || snap == NULL || !active || !TV_IS_FINITE(u_V) || !TV_IS_FINITE(emf_V) ||
         !TV_IS_FINITE(current_A)) {
         return;
@@ -161,6 +148,5 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
     if (TV_FABS(u_V) < dd->cfg.open_u_min_V || TV_FABS(u_V - emf_V) < dd->cfg.open_u_min_V) {
         return;
     }
-    s = with_value(snap, TV_FABS(current_A));
-    (void)diag_report(d, DIAG_DTC_P2100, TV_FABS(current_A) < dd->cfg.open_i_max_A ? DIAG_FAIL : DIAG_PASS, &s);
+    (void)diag_report(d, DIAG_DTC_P2100, TV_FABS(current_A) < dd->cfg.open_i_max_A ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(current_A));
 }

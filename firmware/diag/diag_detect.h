@@ -92,7 +92,7 @@ typedef enum {
  *                       vote runs; 0: the three codes are not run and DIAG_TPS_BOTH is returned
  * @param phi1_rad, phi2_rad  the two tracks' angles [rad]
  * @param phi_pred_rad   the estimator's prediction of this sample's angle [rad]
- * @param snap           the step's snapshot (its value is replaced by |phi1 - phi2| [rad])
+ * @param snap           the step's snapshot (value in the freeze frame: |phi1 - phi2| [rad])
  * @return the angle to use (diag_tps_use_t); DIAG_TPS_BOTH when an argument is NULL or not finite.
  */
 diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv_real_t phi1_rad, tv_real_t phi2_rad,
@@ -106,7 +106,7 @@ diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv
  * @param phi_est_rad  the estimated angle [rad]
  * @param u_V          the voltage applied toward the target [V]
  * @param u_break_V    the model's breakaway voltage at this angle [V] (R (M0 + c |phi| + Ms) / (n Kt))
- * @param snap         the step's snapshot (its value is replaced by |target - phi| [rad])
+ * @param snap         the step's snapshot (value in the freeze frame: |target - phi| [rad])
  */
 void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_rad, tv_real_t phi_est_rad, tv_real_t u_V,
                     tv_real_t u_break_V, const diag_snapshot_t *snap);
@@ -117,7 +117,7 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
  * @param u_V        the voltage applied over that period [V]
  * @param emf_V      the back-EMF n Ke w at its start [V]
  * @param current_A  the measured current [A]
- * @param snap       the step's snapshot (its value is replaced by |current| [A])
+ * @param snap       the step's snapshot (value in the freeze frame: |current| [A])
  */
 void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, tv_real_t current_A,
                      const diag_snapshot_t *snap);
