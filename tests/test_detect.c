@@ -210,7 +210,9 @@ static void test_no_code_confirmed_on_healthy_units(void)
                 continue;
             }
             ++runs;
-            confirmed += learn.dtc_events > 0u && learn.dtc_confirmed != 0u;
+            for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
+                confirmed += isfinite(learn.dtc_confirm_t_s[k]) ? 1 : 0;
+            }
             for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
                 int d;
                 if (k == (int)SIM_SCN_STOP_LEARN || k == (int)SIM_SCN_STUCK_RELEASE) {

@@ -72,6 +72,7 @@ typedef struct {
     double err_open_max;   /**< largest |learned - plant| open stop [rad] */
     double speed_max;      /**< largest plate speed near a stop while learning [rad/s] */
     double time_max_s;     /**< longest routine [s] */
+    unsigned dtc;          /**< routines during which a diagnostic code was confirmed */
 } pop_learn_t;
 
 static pop_learn_t s_learn[2];
@@ -98,6 +99,15 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
         return rc;
     }
     ++l->units;
+    {
+        int d;
+        for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+            if (isfinite(r.dtc_confirm_t_s[d])) {
+                ++l->dtc;
+                break;
+            }
+        }
+    }
     l->speed_max = max_finite(l->speed_max, r.stop_contact_speed_max);
     l->time_max_s = max_finite(l->time_max_s, r.stop_learn_s);
     if (r.stop_learn_phase != (int)SL_DONE) {
@@ -583,8 +593,8 @@ int main(int argc, char **argv)
         if (stop_learning) {
             const pop_learn_t *l = &s_learn[sec];
             printf("  stop learning: %u units, %u failed; largest error closed %.2f mrad, open %.2f mrad; "
-                   "largest speed near a stop %.3g rad/s; longest %.2f s\n",
-                   l->units, l->failed, 1e3 * l->err_closed_max, 1e3 * l->err_open_max, l->speed_max, l->time_max_s);
+                   "largest speed near a stop %.3g rad/s; longest %.2f s; %u with a diagnostic code confirmed\n",
+                   l->units, l->failed, 1e3 * l->err_closed_max, 1e3 * l->err_open_max, l->speed_max, l->time_max_s, l->dtc);
         }
     }
 
