@@ -66,6 +66,20 @@ static int ever(const sim_result_t *r, diag_dtc_t d)
     return isfinite(r->dtc_confirm_t_s[d]) || isfinite(r->dtc_pending_t_s[d]);
 }
 
+/* A track-offset run: the faulty track's code confirmed, the other's never pending, no P2135;
+ * counts it in *named and its confirmation delay after 1.0 s in *worst_s. */
+static void score_named(const sim_result_t *r, int track1, const char *what, int *named, double *worst_s)
+{
+    const diag_dtc_t good = track1 ? DIAG_DTC_P0121 : DIAG_DTC_P0221;
+    const diag_dtc_t other = track1 ? DIAG_DTC_P0221 : DIAG_DTC_P0121;
+    if (isfinite(r->dtc_confirm_t_s[good]) && !ever(r, other) && !isfinite(r->dtc_confirm_t_s[DIAG_DTC_P2135])) {
+        ++*named;
+        *worst_s = fmax(*worst_s, r->dtc_confirm_t_s[good] - 1.0);
+    } else {
+        fprintf(stderr, "  %s: not named\n", what);
+    }
+}
+
 /* A 1 % track offset (50 mV, 0.018 rad; both signs, each track) from 1.0 s on: confirmed within
  * 50 ms (the code confirms at its 20th failing sample), the faulty track's code, never the
  * other's, never P2135. Nominal unit over 25 seeds and three scenarios (closed-loop steps and
@@ -87,18 +101,11 @@ static void test_track_offset_named_within_50_ms(void)
     plant_config_default(&pc);
     app_config_default(&ac);
     for (f = 0; f < 4; ++f) {
-        const diag_dtc_t good = f < 2 ? DIAG_DTC_P0121 : DIAG_DTC_P0221;
-        const diag_dtc_t other = f < 2 ? DIAG_DTC_P0221 : DIAG_DTC_P0121;
         for (s = 0; s < 3; ++s) {
             for (seed = 1u; seed <= 25u; ++seed) {
                 run_with(&pc, &ac, scn[s], seed, spec[f], &r);
                 ++runs;
-                if (isfinite(r.dtc_confirm_t_s[good]) && !ever(&r, other) && !isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2135])) {
-                    ++named;
-                    worst_s = fmax(worst_s, r.dtc_confirm_t_s[good] - 1.0);
-                } else {
-                    fprintf(stderr, "  %s %s seed %llu: not named\n", spec[f], sim_scenario_name(scn[s]), (unsigned long long)seed);
-                }
+                score_named(&r, f < 2, spec[f], &named, &worst_s);
             }
         }
     }
@@ -108,16 +115,9 @@ static void test_track_offset_named_within_50_ms(void)
             continue;
         }
         for (f = 0; f < 4; ++f) {
-            const diag_dtc_t good = f < 2 ? DIAG_DTC_P0121 : DIAG_DTC_P0221;
-            const diag_dtc_t other = f < 2 ? DIAG_DTC_P0221 : DIAG_DTC_P0121;
             run_with(&pc, &ac, SIM_SCN_CLOSED_STEPS, 1u, spec[f], &r);
             ++runs;
-            if (isfinite(r.dtc_confirm_t_s[good]) && !ever(&r, other) && !isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2135])) {
-                ++named;
-                worst_s = fmax(worst_s, r.dtc_confirm_t_s[good] - 1.0);
-            } else {
-                fprintf(stderr, "  %s unit %llu: not named\n", spec[f], (unsigned long long)unit);
-            }
+            score_named(&r, f < 2, spec[f], &named, &worst_s);
         }
     }
     printf("  track offset 1 %%: faulty track named in %d of %d runs, confirmed at most %.0f ms after the onset\n", named, runs,

@@ -207,6 +207,14 @@ static void test_queue_overflow_is_counted(void)
     TV_CHECK_EQ_INT(d.events_lost, 0);
 }
 
+/* Fresh codes and detectors on the default thresholds. */
+static void fresh_detectors(diag_t *d, diag_detect_t *dd, diag_detect_config_t *c)
+{
+    diag_init(d);
+    diag_detect_config_default(c);
+    TV_CHECK_EQ_INT(diag_detect_init(dd, c), TV_OK);
+}
+
 static void test_vote_names_the_track_away_from_the_prediction(void)
 {
     static diag_t d;
@@ -214,9 +222,7 @@ static void test_vote_names_the_track_away_from_the_prediction(void)
     diag_detect_config_t c;
     diag_snapshot_t sn = snap_at(1u);
     unsigned k;
-    diag_init(&d);
-    diag_detect_config_default(&c);
-    TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_OK);
+    fresh_detectors(&d, &dd, &c);
     /* agreeing tracks: both kept, all pass */
     TV_CHECK_EQ_INT(diag_tps_vote(&dd, &d, 1, TV_R(0.500), TV_R(0.5004), TV_R(0.5002), &sn), DIAG_TPS_BOTH);
     /* track 1 off by 0.0183 rad (1 % of the supply): named; track 2 kept from the first sample */
@@ -228,8 +234,7 @@ static void test_vote_names_the_track_away_from_the_prediction(void)
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2135) + diag_confirmed(&d, DIAG_DTC_P2135), 0);
     TV_CHECK_NEAR(d.code[DIAG_DTC_P0121].freeze.value, 0.0183, 1e-6);
     /* the prediction half-way: nobody can be named, P2135 fails and no angle is used */
-    diag_init(&d);
-    TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_OK);
+    fresh_detectors(&d, &dd, &c);
     TV_CHECK_EQ_INT(diag_tps_vote(&dd, &d, 1, TV_R(0.52), TV_R(0.50), TV_R(0.51), &sn), DIAG_TPS_NONE);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2135), 1);
     /* a track out of range: the vote does not run */
@@ -251,9 +256,7 @@ static void test_jam_and_open_winding_rules(void)
     diag_detect_config_t c;
     diag_snapshot_t sn = snap_at(1u);
     unsigned k;
-    diag_init(&d);
-    diag_detect_config_default(&c);
-    TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_OK);
+    fresh_detectors(&d, &dd, &c);
     /* a still plate 0.04 rad below its target under +4 V: the first DIAG_JAM_WINDOW calls fill the
      * history, then P2112 (stuck closed) fails once per call: confirmed at call WINDOW + 50 */
     for (k = 1; k <= DIAG_JAM_WINDOW + 49u; ++k) {
@@ -272,8 +275,7 @@ static void test_jam_and_open_winding_rules(void)
     diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(2.01), &sn); /* below 2x breakaway */
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2112), 0);
     /* moving by >= 2 mrad over the window passes */
-    diag_init(&d);
-    TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_OK);
+    fresh_detectors(&d, &dd, &c);
     for (k = 0; k < 100u; ++k) {
         diag_jam_check(&dd, &d, 1, TV_R(1.2), TV_R(0.3) + (tv_real_t)k * TV_R(0.0003), TV_R(10.0), TV_R(1.9), &sn);
     }
