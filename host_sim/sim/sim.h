@@ -173,7 +173,7 @@ typedef struct {
                                     (a missing sample, predicted across by the application) */
     FILE *csv;                 /**< NULL, or a stream for the CSV log (header + one line per tick) */
     FILE *events;              /**< NULL, or a stream for the diagnostic events: header
-                                    "t_us,status,fault_class,dtc", one line per event (sim_events_header()) */
+                                    "t_us,status,fault_class,dtc", one line per event (diag_csv.h) */
     sim_row_fn row_fn;         /**< NULL, or called once per tick */
     void *row_user;            /**< passed to row_fn */
 } sim_options_t;
@@ -319,12 +319,6 @@ double sim_chi2_quantile(double p, double dof);
 
 /** Write the CSV header line (column names with units). @return TV_OK; TV_ERR_NULL; TV_ERR_IO. */
 int sim_csv_header(FILE *f);
-
-/** Write the diagnostic-event CSV header "t_us,status,fault_class,dtc". @return TV_OK; TV_ERR_NULL; TV_ERR_IO. */
-int sim_events_header(FILE *f);
-
-/** Write one diagnostic event as a CSV line. @return TV_OK; TV_ERR_NULL; TV_ERR_IO. */
-int sim_event_row(FILE *f, const diag_event_t *ev);
 
 /** Write one CSV line (%.9g). @return TV_OK; TV_ERR_NULL; TV_ERR_IO. */
 int sim_csv_row(FILE *f, const sim_row_t *row);

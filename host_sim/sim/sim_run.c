@@ -11,6 +11,7 @@
 #include "sim_internal.h"
 
 #include "app_tick.h"
+#include "diag_csv.h"
 #include "paper_filter.h"
 #include "sim_hal.h"
 #include "tv_status.h"
@@ -282,7 +283,7 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         }
     }
     if (opt->events != NULL) {
-        rc = sim_events_header(opt->events);
+        rc = diag_csv_header(opt->events);
         if (rc != TV_OK) {
             return rc;
         }
@@ -439,7 +440,7 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
                     *first = t_s;
                 }
                 if (opt->events != NULL) {
-                    rc = sim_event_row(opt->events, &ev);
+                    rc = diag_csv_event(opt->events, &ev);
                     if (rc != TV_OK) {
                         return rc;
                     }
