@@ -155,8 +155,8 @@ diag_action_t diag_summary(const diag_t *d, uint32_t *confirmed)
 {
     diag_action_t a = DIAG_ACTION_NONE;
     uint32_t mask = 0u;
-    int k;
     if (d != NULL) {
+        int k;
         for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
             if (d->code[k].confirmed) {
                 mask |= 1u << k;
