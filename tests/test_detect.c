@@ -191,6 +191,42 @@ static void test_open_winding_confirmed_within_10_ms(void)
     TV_CHECK_NEAR(r.dtc_confirm_t_s[DIAG_DTC_P2100] - 1.0, 0.014, 1e-9);
 }
 
+/* Winding resistance x1.5 from 1.0 s: P2101 in every scenario that drives current, within
+ * 0.7 s (the estimator's R + dR must first cross 1.35 R, then 200 ms confirm), never P1A01;
+ * half the turns shorted (R x 0.5): P1A01 where the estimate follows (closed-loop steps, open-loop
+ * steps, slow sine), never P2101. Nominal unit, 5 seeds. (paper_sine with shorted turns
+ * confirms P2100 as well: README's signature table.) */
+static void test_winding_resistance_out_of_range(void)
+{
+    static const sim_scenario_t scn_hi[4] = {SIM_SCN_CLOSED_STEPS, SIM_SCN_PAPER_SINE, SIM_SCN_OPEN_STEPS, SIM_SCN_SLOW_SINE};
+    static const sim_scenario_t scn_lo[3] = {SIM_SCN_CLOSED_STEPS, SIM_SCN_OPEN_STEPS, SIM_SCN_SLOW_SINE};
+    static plant_config_t pc;
+    static app_config_t ac;
+    sim_result_t r;
+    uint64_t seed;
+    int s;
+    double worst_hi = 0.0;
+    double worst_lo = 0.0;
+    plant_config_default(&pc);
+    app_config_default(&ac);
+    for (seed = 1u; seed <= 5u; ++seed) {
+        for (s = 0; s < 4; ++s) {
+            run_with(&pc, &ac, scn_hi[s], seed, "winding_resistance_high:1.5@1.0", &r);
+            worst_hi = fmax(worst_hi, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]) ? r.dtc_confirm_t_s[DIAG_DTC_P2101] - 1.0 : 1e9);
+            TV_CHECK(!ever(&r, DIAG_DTC_P1A01));
+        }
+        for (s = 0; s < 3; ++s) {
+            run_with(&pc, &ac, scn_lo[s], seed, "winding_short:0.5@1.0", &r);
+            worst_lo = fmax(worst_lo, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A01]) ? r.dtc_confirm_t_s[DIAG_DTC_P1A01] - 1.0 : 1e9);
+            TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+        }
+    }
+    printf("  winding resistance: x1.5 P2101 at most %.0f ms after the onset; half the turns shorted P1A01 at most %.0f ms\n",
+           worst_hi * 1e3, worst_lo * 1e3);
+    TV_CHECK_LE(worst_hi, 0.7);
+    TV_CHECK_LE(worst_lo, 0.7);
+}
+
 /* No code confirmed on healthy units: 12 evaluation units per spread (every third of class b),
  * every benchmark scenario, seed 1, after stop learning (which must not confirm one either). */
 static void test_no_code_confirmed_on_healthy_units(void)
@@ -240,6 +276,7 @@ int main(void)
     TV_TEST_RUN(test_track_offset_named_within_50_ms);
     TV_TEST_RUN(test_jam_confirmed_within_100_ms);
     TV_TEST_RUN(test_open_winding_confirmed_within_10_ms);
+    TV_TEST_RUN(test_winding_resistance_out_of_range);
     TV_TEST_RUN(test_no_code_confirmed_on_healthy_units);
     return tv_test_summary();
 }

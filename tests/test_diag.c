@@ -44,6 +44,7 @@ static void test_table_is_complete(void)
     TV_CHECK_EQ_INT(diag_dtc_info(DIAG_DTC_P0121)->confirm_count, 20);
     TV_CHECK_EQ_INT(diag_dtc_info(DIAG_DTC_P2112)->confirm_count, 50);
     TV_CHECK_EQ_INT(diag_dtc_info(DIAG_DTC_P2100)->confirm_count, 5);
+    TV_CHECK_EQ_INT(diag_dtc_info(DIAG_DTC_P2101)->confirm_count, 200);
     TV_CHECK(strcmp(diag_event_name(DIAG_EV_HEALED), "healed") == 0);
 }
 
@@ -297,6 +298,37 @@ static void test_jam_and_open_winding_rules(void)
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2100), 0);
 }
 
+static void test_winding_resistance_rule(void)
+{
+    /* R = 4.3: above 1.35 R = 5.805 fails P2101, below 0.65 R = 2.795 fails P1A01; not run with
+     * the bridge off, under 0.4 A, or with sigma above 0.05 R = 0.215 ohm */
+    static diag_t d;
+    diag_detect_t dd;
+    diag_detect_config_t c;
+    diag_snapshot_t sn = snap_at(1u);
+    unsigned k;
+    fresh_detectors(&d, &dd, &c);
+    for (k = 0; k < 199u; ++k) {
+        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(5.81), TV_R(0.05), TV_R(4.3), &sn);
+    }
+    diag_resistance_check(&dd, &d, 0, TV_R(1.0), TV_R(9.0), TV_R(0.05), TV_R(4.3), &sn);
+    diag_resistance_check(&dd, &d, 1, TV_R(0.39), TV_R(9.0), TV_R(0.05), TV_R(4.3), &sn);
+    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(9.0), TV_R(0.22), TV_R(4.3), &sn);
+    TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2101), 0);
+    diag_resistance_check(&dd, &d, 1, TV_R(-1.0), TV_R(5.81), TV_R(0.05), TV_R(4.3), &sn);
+    TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2101), 1);
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P2101].freeze.value, 5.81 / 4.3, 1e-6);
+    TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P1A01) + diag_confirmed(&d, DIAG_DTC_P1A01), 0);
+    TV_CHECK_EQ_INT(diag_action(&d), DIAG_ACTION_NONE); /* P2101 is recorded only */
+    fresh_detectors(&d, &dd, &c);
+    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(2.79), TV_R(0.05), TV_R(4.3), &sn);
+    TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P1A01), 1);
+    fresh_detectors(&d, &dd, &c);
+    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(2.80), TV_R(0.05), TV_R(4.3), &sn);
+    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(5.80), TV_R(0.05), TV_R(4.3), &sn);
+    TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P1A01) + diag_pending(&d, DIAG_DTC_P2101), 0);
+}
+
 int main(void)
 {
     TV_TEST_RUN(test_table_is_complete);
@@ -306,5 +338,6 @@ int main(void)
     TV_TEST_RUN(test_queue_overflow_is_counted);
     TV_TEST_RUN(test_vote_names_the_track_away_from_the_prediction);
     TV_TEST_RUN(test_jam_and_open_winding_rules);
+    TV_TEST_RUN(test_winding_resistance_rule);
     return tv_test_summary();
 }

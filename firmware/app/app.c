@@ -489,6 +489,8 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
                        clamp(c->target_rad, p->phi_closed_rad + c->target_margin_rad, p->phi_open_rad - c->target_margin_rad),
                        out->x[TVM_PHI], app->u_applied_V, u_break_V, snap);
     }
+    diag_resistance_check(&app->ddet, &app->diag, was_on && app->diag_bridge_on && c->mode != APP_MODE_STOP_LEARN,
+                          out->z[EKF_CH_CURRENT], out->r_est_ohm, out->r_sigma_ohm, app->ekf.model.p.R_ohm, snap);
     out->dtc_action = (uint8_t)diag_summary(&app->diag, &out->dtc_confirmed);
 }
 

@@ -13,8 +13,9 @@
 /* The code table (README "Diagnostic codes" documents the detection of each). Confirmation
  * times at 1 kHz: P0121 / P0221 / P2135 20 ms (inside the 50 ms target for a track offset),
  * P2111 / P2112 50 ms (inside the 100 ms jam target, and 25x the 2 ms a healthy plate needs to
- * move after a max-slew step), P2100 5 ms (inside the 10 ms open-winding target). Healing:
- * 1 s of consecutive passes. */
+ * move after a max-slew step), P2100 5 ms (inside the 10 ms open-winding target), P2101 / P1A01
+ * 200 ms (the estimated resistance is a slow, filtered quantity). Healing: 1 s of consecutive
+ * passes. */
 static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
     {"P0121", "tps1_fault", "throttle position sensor 1 range/performance (track 1 named by the estimator's vote)", 20u, 1000u,
      DIAG_ACTION_LIMITED},
@@ -28,6 +29,10 @@ static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
      DIAG_ACTION_SAFE},
     {"P2100", "winding_open", "throttle actuator motor circuit open (no current under a large voltage)", 5u, 1000u,
      DIAG_ACTION_SAFE},
+    {"P2101", "winding_resistance_high", "throttle actuator motor circuit range/performance (winding resistance above its range)",
+     200u, 1000u, DIAG_ACTION_NONE},
+    {"P1A01", "winding_short", "winding resistance below its range (shorted turns suspected; project code)", 200u, 1000u,
+     DIAG_ACTION_LIMITED},
 };
 
 const diag_dtc_info_t *diag_dtc_info(diag_dtc_t dtc)

@@ -51,6 +51,8 @@ typedef enum {
     DIAG_DTC_P2111,     /**< throttle actuator stuck open: commanded to close, the plate does not move */
     DIAG_DTC_P2112,     /**< throttle actuator stuck closed: commanded to open, the plate does not move */
     DIAG_DTC_P2100,     /**< throttle actuator motor circuit open: no current under a large voltage */
+    DIAG_DTC_P2101,     /**< throttle actuator motor circuit range/performance: winding resistance above its range */
+    DIAG_DTC_P1A01,     /**< project code: winding resistance below its range (shorted turns) */
     DIAG_DTC_COUNT      /**< number of codes (not a code) */
 } diag_dtc_t;
 

@@ -22,6 +22,10 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->jam_still_rad = TV_R(0.002);
     cfg->open_u_min_V = TV_R(3.0);
     cfg->open_i_max_A = TV_R(0.15);
+    cfg->r_high_frac = TV_R(1.35);
+    cfg->r_low_frac = TV_R(0.65);
+    cfg->r_sigma_max_frac = TV_R(0.05);
+    cfg->r_excite_A = TV_R(0.4);
 }
 
 int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
@@ -31,7 +35,9 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     }
     {
         const tv_real_t all[] = {cfg->tps_disagree_rad, cfg->tps_vote_frac, cfg->jam_error_rad, cfg->jam_u_min_V,
-                                 cfg->jam_break_factor, cfg->jam_still_rad, cfg->open_u_min_V,  cfg->open_i_max_A};
+                                 cfg->jam_break_factor, cfg->jam_still_rad, cfg->open_u_min_V,  cfg->open_i_max_A,
+                                 cfg->r_high_frac,      cfg->r_low_frac,    cfg->r_sigma_max_frac,
+                                 cfg->r_excite_A};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -42,7 +48,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
             }
         }
     }
-    if (cfg->tps_vote_frac > TV_R(0.5)) {
+    if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0))) {
         return TV_ERR_CONFIG;
     }
     memset(dd, 0, sizeof *dd);
@@ -149,4 +155,18 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
         return;
     }
     (void)diag_report(d, DIAG_DTC_P2100, TV_FABS(current_A) < dd->cfg.open_i_max_A ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(current_A));
+}
+
+void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t current_A, tv_real_t r_est_ohm,
+                           tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, const diag_snapshot_t *snap)
+{
+    tv_real_t ratio;
+    if (dd == NULL || d == NULL || snap == NULL || !active || !(TV_FABS(current_A) >= dd->cfg.r_excite_A) ||
+        !TV_IS_FINITE(r_est_ohm) || !TV_IS_FINITE(r_sigma_ohm) ||
+        !(r_nom_ohm > TV_R(0.0)) || !(r_sigma_ohm > TV_R(0.0)) || r_sigma_ohm > dd->cfg.r_sigma_max_frac * r_nom_ohm) {
+        return;
+    }
+    ratio = r_est_ohm / r_nom_ohm;
+    (void)diag_report(d, DIAG_DTC_P2101, ratio > dd->cfg.r_high_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
+    (void)diag_report(d, DIAG_DTC_P1A01, ratio < dd->cfg.r_low_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
 }

@@ -26,6 +26,14 @@
  *     condition keeps a wrong velocity estimate, e.g. against a stop the model does not know yet,
  *     from making a small voltage look large), and the measured current (plausible) is below
  *     open_i_max_A: a failed check; a current at or above it passes.
+ *   WINDING RESISTANCE (P2101 above, P1A01 below its range), an adapted parameter against its
+ *     healthy range: the estimator's R + dR (its winding-resistance error state), while the bridge
+ *     drives a measured current of at least r_excite_A (the state is updated only under current,
+ *     and it can be left wrong by an excursion while the bridge is off: measured, class b unit
+ *     1013 in limp_home, dR jumping 0.58 ohm with the bridge off and no current, corrected within
+ *     20 ms of drive) and its sigma is below r_sigma_max_frac * R: above r_high_frac * R fails
+ *     P2101, below r_low_frac * R fails P1A01, in between passes both. R is the model's nominal
+ *     resistance.
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -58,6 +66,11 @@ typedef struct {
     tv_real_t jam_still_rad;    /**< motion over DIAG_JAM_WINDOW samples below which the plate is still [rad], > 0; default 0.002 */
     tv_real_t open_u_min_V;     /**< |u| and |u - n Ke w| from which a current must flow [V], > 0; default 3 */
     tv_real_t open_i_max_A;     /**< |current| below which none flows [A], > 0; default 0.15 */
+    tv_real_t r_high_frac;      /**< R + dR above this times R fails P2101 [-], > 1; default 1.35 (units
+                                     spread +-20 %, and a winding warms up by some 10 %) */
+    tv_real_t r_low_frac;       /**< R + dR below this times R fails P1A01 [-], (0, 1); default 0.65 */
+    tv_real_t r_sigma_max_frac; /**< the check runs while sigma(dR) <= this times R [-], > 0; default 0.05 */
+    tv_real_t r_excite_A;       /**< ... and the measured |current| is at least this [A], > 0; default 0.4 */
 } diag_detect_config_t;
 
 /** Detector state. Allocate statically; diag_detect_init() before use. */
@@ -121,6 +134,19 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
  */
 void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, tv_real_t current_A,
                      const diag_snapshot_t *snap);
+
+/**
+ * The winding-resistance check (see the file comment); reports P2101, P1A01.
+ * @param active       1 when the bridge drove the period that ended and the one starting (the
+ *                     model is the one in service: not while the stops are being learned)
+ * @param current_A    the measured current [A]
+ * @param r_est_ohm    the estimator's R + dR [ohm]
+ * @param r_sigma_ohm  its standard deviation [ohm] (0: the estimator has no such state: not run)
+ * @param r_nom_ohm    the model's R [ohm], > 0
+ * @param snap         the step's snapshot (value in the freeze frame: (R + dR) / R [-])
+ */
+void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t current_A, tv_real_t r_est_ohm,
+                           tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, const diag_snapshot_t *snap);
 
 #ifdef __cplusplus
 }
