@@ -61,6 +61,10 @@ static void app_ok(app_t *app)
 {
     app_config_t cfg;
     app_config_default(&cfg);
+    /* step_at_rest() feeds no current while the bridge drives: to the open-winding check that is
+     * an open winding (P2100, safe state). These tests are about the protocol: its threshold is
+     * put out of reach. */
+    cfg.diag.open_u_min_V = TV_R(1e3);
     TV_CHECK_EQ_INT(app_init(app, &cfg), TV_OK);
 }
 

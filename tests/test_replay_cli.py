@@ -309,6 +309,25 @@ def main():
     check(open(path("pl_def/paper_sine.csv")).read() != open(path("pl_st/paper_sine.csv")).read(),
           "a plant with other stops runs differently")
 
+    # --- fault injection and diagnostic events (issue 12): host_sim --fault / --events, replay --events
+    expect([exe("host_sim"), "--fault", "tps1_offset:1"], 2, "option --fault", "no '@'")
+    expect([exe("host_sim"), "--fault", "jam:5@1:0.2"], 2, "option --fault", "jam cannot drift")
+    expect([exe("host_sim"), "--fault", "supply_sag:20@0.1", "--duration", "0.2", "--out", path("o")], 1, "run failed")
+    _, err = expect([exe("host_sim"), "--scenario", "closed_steps", "--duration", "1.5", "--out", path("dtc"),
+                     "--fault", "tps1_offset:1@1.0", "--raw-log", path("dtc_raw.csv"), "--events", path("dtc_sim.csv")], 0)
+    sim_ev = open(path("dtc_sim.csv")).read().splitlines()
+    check(sim_ev[0] == "t_us,status,fault_class,dtc", "host_sim --events: header")
+    check("1000000,pending,tps1_fault,P0121" in sim_ev and "1019000,confirmed,tps1_fault,P0121" in sim_ev,
+          "host_sim --events: P0121 pending at the onset, confirmed at its 20th failing sample:\n%s" % "\n".join(sim_ev))
+    _, err = expect([exe("replay"), path("dtc_raw.csv"), "-o", path("dtc_rep.csv"), "--events", path("dtc_rep_ev.csv")], 0,
+                    "diagnostic codes confirmed: P0121 (tps1_fault) at t = 1.019000 s")
+    rep_ev = open(path("dtc_rep_ev.csv")).read().splitlines()
+    # replay observes in APP_MODE_EXTERNAL: no closed loop, so no jam check; the track codes are the same
+    check([l for l in sim_ev if ",jam," not in l] == rep_ev,
+          "replay --events reproduces host_sim's track events:\n%s\n--\n%s" % ("\n".join(sim_ev), "\n".join(rep_ev)))
+    expect([exe("replay"), path("dtc_raw.csv"), "-o", path("dtc_rep.csv"), "--events", path("dtc_raw.csv")], 2,
+           "is the input log")
+
     print("%d checks, %d failed" % (CHECKS[0], len(FAILED)))
     return 1 if FAILED else 0
 

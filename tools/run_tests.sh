@@ -73,13 +73,13 @@ if ((${#srcs[@]} == 0)); then mapfile -t srcs < <(ls firmware/*/*.c hal/*/*.c ho
 # below for their own target with newlib's headers, not as host code.
 mapfile -t m4f_srcs < <(printf '%s\n' "${srcs[@]}" | grep -E '^(hal/stm32f4|firmware/ecu)/' || true)
 mapfile -t srcs < <(printf '%s\n' "${srcs[@]}" | grep -vE '^(hal/stm32f4|firmware/ecu)/')
-incs=(-Ifirmware/common -Ifirmware/estimator -Ifirmware/app -Ifirmware/protocols -Ifirmware/params -Ifirmware/linux_rt -Ihal
+incs=(-Ifirmware/common -Ifirmware/estimator -Ifirmware/diag -Ifirmware/app -Ifirmware/protocols -Ifirmware/params -Ifirmware/linux_rt -Ihal
   -Ihal/linux -Ihost_sim/plant -Ihost_sim/sim -Ihost_sim/replay -Ihost_sim/can_host -Ihost_sim/identify)
 cppcheck --std=c99 --enable=warning,style,performance,portability --error-exitcode=1 --inline-suppr \
   --quiet "${incs[@]}" "${srcs[@]}"
 run_tidy "${srcs[@]}" -- -std=c99 "${incs[@]}"
 if ((${#m4f_srcs[@]})); then
-  m4f_incs=(-Ifirmware/common -Ifirmware/estimator -Ifirmware/app -Ifirmware/protocols -Ihal -Ihal/stm32f4)
+  m4f_incs=(-Ifirmware/common -Ifirmware/estimator -Ifirmware/diag -Ifirmware/app -Ifirmware/protocols -Ihal -Ihal/stm32f4)
   m4f_flags=(-std=c99 --target=arm-none-eabi -mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16
     "${m4f_incs[@]}" -isystem /usr/lib/arm-none-eabi/include)
   cppcheck --std=c99 --enable=warning,style,performance,portability --error-exitcode=1 --inline-suppr \

@@ -48,6 +48,7 @@ void app_config_default(app_config_t *cfg)
     nism_config_default(&cfg->nism);
     sl_config_default(&cfg->stop_learn);
     st_config_default(&cfg->stop_track);
+    diag_detect_config_default(&cfg->diag);
     app_calib_default(&cfg->calib, &cfg->model);
     /* Tracks span 0.1..0.9 of full scale over the travel; a stop penetration of a few mrad
      * stays far inside 2..98 %. Outside it the track is open or shorted. */
@@ -159,11 +160,20 @@ int app_init(app_t *app, const app_config_t *cfg)
             return rc;
         }
     }
+    {
+        diag_detect_t probe;
+        rc = diag_detect_init(&probe, &cfg->diag);
+        if (rc != TV_OK) {
+            return rc;
+        }
+    }
     memset(app, 0, sizeof *app);
     app->cfg = *cfg;
     app->ekf = ekf;
     (void)nism_init(&app->nism, &cfg->nism); /* validated above */
     (void)st_reset(&app->st, &cfg->stop_track, cfg->model.phi_closed_rad, cfg->model.phi_open_rad); /* likewise */
+    diag_init(&app->diag);
+    (void)diag_detect_init(&app->ddet, &cfg->diag); /* validated above */
     if (cfg->control.mode == APP_MODE_STOP_LEARN) {
         (void)sl_start(&app->sl, &cfg->stop_learn, &cfg->model); /* validated above */
     }
@@ -485,6 +495,87 @@ static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
     }
 }
 
+/* ------------------------------------------------------------------------------------------ */
+/* Diagnostic codes (firmware/diag/): the detectors' calls and the codes' actions              */
+/* ------------------------------------------------------------------------------------------ */
+
+/* What a confirmation freezes (one snapshot per step): time, the estimate before this sample
+ * and its variances, R + dR, supply, the duty of the period that ended. */
+static void app_diag_snapshot(const app_t *app, const app_input_t *in, const app_output_t *out, diag_snapshot_t *s)
+{
+    tv_real_t P[TVM_NX][TVM_NX];
+    tv_real_t dR;
+    tv_real_t sR;
+    int a;
+    s->t_us = in->t_us;
+    ekf_state(&app->ekf, s->x);
+    ekf_covariance(&app->ekf, P);
+    for (a = 0; a < TVM_NX; ++a) {
+        s->var[a] = P[a][a];
+    }
+    ekf_resistance_error(&app->ekf, &dR, &sR);
+    s->r_est_ohm = app->ekf.model.p.R_ohm + dR;
+    s->supply_V = out->supply_V;
+    s->duty = out->supply_V > TV_R(0.0) ? app->u_applied_V / out->supply_V : TV_R(0.0);
+}
+
+/* Before the estimator: the track vote against the estimate moved on by one period (the
+ * estimator has not seen this sample), and the open-winding check on the period that ended. */
+static diag_tps_use_t app_diag_pre(app_t *app, const app_input_t *in, tv_real_t phi1, tv_real_t phi2, tv_real_t current,
+                                   const diag_snapshot_t *snap)
+{
+    const app_limits_t *lim = &app->cfg.limits;
+    const int in_range = in->adc[1] >= lim->tps_min_counts && in->adc[1] <= lim->tps_max_counts &&
+                         in->adc[2] >= lim->tps_min_counts && in->adc[2] <= lim->tps_max_counts &&
+                         (app->faults & (APP_FAULT_TPS1_RANGE | APP_FAULT_TPS2_RANGE)) == 0u;
+    const int cur_ok = in->adc[0] >= lim->current_min_counts && in->adc[0] <= lim->current_max_counts;
+    diag_open_check(&app->ddet, &app->diag, app->n_steps > 0u && app->diag_bridge_on && cur_ok, app->u_applied_V,
+                    app->ekf.model.nKe_V_s * snap->x[TVM_W], current, snap);
+    return diag_tps_vote(&app->ddet, &app->diag, in_range && app->n_steps > 0u, phi1, phi2,
+                         snap->x[TVM_PHI] + snap->x[TVM_W] * app->cfg.model.Ts_s, snap);
+}
+
+/* After the control law: the action of the confirmed codes on the outputs, then the jam check
+ * on what is really applied (a plate the bridge no longer drives is not judged). */
+static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t *out)
+{
+    const app_control_t *c = &app->cfg.control;
+    const tvm_params_t *p = &app->cfg.model;
+    const uint8_t was_on = app->diag_bridge_on;
+    diag_action_t action = diag_action(&app->diag);
+    if (c->mode == APP_MODE_EXTERNAL) {
+        /* another controller drives: the outputs echo it (or are safe), the model keeps what it applies */
+        if (action == DIAG_ACTION_SAFE) {
+            out->duty = 0.0f;
+            out->bridge_enable = 0u;
+        }
+        app->diag_bridge_on = out->u_cmd_V != TV_R(0.0);
+    } else {
+        if (action == DIAG_ACTION_SAFE) {
+            out->duty = 0.0f;
+            out->bridge_enable = 0u;
+            app->integ_V = TV_R(0.0);
+            app->u_applied_V = open_bridge_voltage(app);
+        } else if (action == DIAG_ACTION_LIMITED && out->bridge_enable) {
+            const float lim = (float)DIAG_LIMITED_DUTY;
+            out->duty = out->duty > lim ? lim : (out->duty < -lim ? -lim : out->duty);
+            app->u_applied_V = (tv_real_t)out->duty * out->supply_V;
+        }
+        app->diag_bridge_on = out->bridge_enable;
+    }
+    {
+        /* the model's breakaway voltage here: preload, spring and static friction at stall */
+        const tv_real_t u_break_V =
+            p->R_ohm * (p->M0_Nm + p->c_Nm_rad * TV_FABS(out->x[TVM_PHI]) + p->Ms_Nm) / (p->n_gear * p->Kt_Nm_A);
+        diag_jam_check(&app->ddet, &app->diag, c->mode == APP_MODE_POSITION && out->bridge_enable && was_on,
+                       clamp(c->target_rad, p->phi_closed_rad + c->target_margin_rad, p->phi_open_rad - c->target_margin_rad),
+                       out->x[TVM_PHI], app->u_applied_V, u_break_V, snap);
+    }
+    diag_resistance_check(&app->ddet, &app->diag, was_on && app->diag_bridge_on && c->mode != APP_MODE_STOP_LEARN,
+                          out->z[EKF_CH_CURRENT], out->r_est_ohm, out->r_sigma_ohm, app->ekf.model.p.R_ohm, snap);
+    out->dtc_action = (uint8_t)diag_summary(&app->diag, &out->dtc_confirmed);
+}
+
 void app_step(app_t *app, const app_input_t *in, app_output_t *out)
 {
     const app_calib_t *cal;
@@ -498,6 +589,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     tv_real_t angle;
     tv_real_t current;
     ekf_meas_t meas;
+    diag_snapshot_t dsnap; /* the diagnostic codes' snapshot of this step */
     uint32_t k;
     if (app == NULL || in == NULL || out == NULL) {
         return;
@@ -566,13 +658,38 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
             use_mask &= ~(EKF_CH_BIT(EKF_CH_ANGLE) | EKF_CH_BIT(EKF_CH_VELOCITY));
             out->degraded |= APP_DEGRADED_ANGLE;
         }
-        /* the supply only scales the voltage of the next period: it does not spoil this sample */
-        sample_ok = (use_mask & (EKF_CH_BIT(EKF_CH_CURRENT) | EKF_CH_BIT(EKF_CH_ANGLE))) != 0u;
-        angle_ok = (use_mask & EKF_CH_BIT(EKF_CH_ANGLE)) != 0u;
     }
     if (in->driver_fault) {
         app->faults |= APP_FAULT_DRIVER;
     }
+
+    /* ---- Diagnostics before the estimator (firmware/diag/diag_detect.h) ---- */
+    app_diag_snapshot(app, in, out, &dsnap);
+    {
+        switch (app_diag_pre(app, in, phi1, phi2, current, &dsnap)) {
+        case DIAG_TPS_ONLY1: /* track 2 named: track 1 alone */
+            angle = phi1;
+            use_mask |= EKF_CH_BIT(EKF_CH_ANGLE) | EKF_CH_BIT(EKF_CH_VELOCITY);
+            out->degraded = (out->degraded & ~APP_DEGRADED_ANGLE) | APP_DEGRADED_TPS2;
+            break;
+        case DIAG_TPS_ONLY2: /* track 1 named: track 2 alone */
+            angle = phi2;
+            use_mask |= EKF_CH_BIT(EKF_CH_ANGLE) | EKF_CH_BIT(EKF_CH_VELOCITY);
+            out->degraded = (out->degraded & ~APP_DEGRADED_ANGLE) | APP_DEGRADED_TPS1;
+            break;
+        case DIAG_TPS_NONE: /* P2135: neither track agrees with the estimator */
+            use_mask &= ~(EKF_CH_BIT(EKF_CH_ANGLE) | EKF_CH_BIT(EKF_CH_VELOCITY));
+            out->degraded |= APP_DEGRADED_ANGLE;
+            break;
+        case DIAG_TPS_BOTH:
+        default:
+            break;
+        }
+    }
+    /* what this sample can correct with (after the plausibility checks and the track vote); the
+     * supply only scales the voltage of the next period: it does not spoil this sample */
+    sample_ok = (use_mask & (EKF_CH_BIT(EKF_CH_CURRENT) | EKF_CH_BIT(EKF_CH_ANGLE))) != 0u;
+    angle_ok = (use_mask & EKF_CH_BIT(EKF_CH_ANGLE)) != 0u;
 
     /* Estimator: predict across every elapsed period with the voltage that was applied, then
      * correct with this sample if it is plausible. */
@@ -682,6 +799,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         out->preload_rel = TV_R(1.0) + mp;
     }
     ekf_stops(&app->ekf, &out->stop_closed_rad, &out->stop_open_rad);
+    app_diag_post(app, &dsnap, out); /* diagnostics after the control law: the codes' actions, jam check */
     out->faults = app->faults;
     ++app->n_steps;
 }

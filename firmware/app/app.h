@@ -18,6 +18,8 @@
 
 #include <stdint.h>
 
+#include "diag.h"
+#include "diag_detect.h"
 #include "ekf.h"
 #include "nis_monitor.h"
 #include "stop_learn.h"
@@ -142,6 +144,7 @@ typedef struct {
     nism_config_t nism;   /**< consistency monitor (nis_monitor.h) */
     sl_config_t stop_learn; /**< start-up stop learning (APP_MODE_STOP_LEARN, stop_learn.h) */
     st_config_t stop_track; /**< online stop tracking in service (stop_track.h) */
+    diag_detect_config_t diag; /**< fault detectors of the diagnostic codes (firmware/diag/diag_detect.h) */
     app_calib_t calib;
     app_limits_t limits;
     app_control_t control;
@@ -184,6 +187,8 @@ typedef struct {
     uint32_t degraded;     /**< APP_DEGRADED_* mask: what this step's correction had to do without */
     uint32_t consistency;  /**< consistency-monitor flags raised now (NISM_FLAG(EKF_CH_*), nis_monitor.h):
                                 the model does not explain that channel's data */
+    uint32_t dtc_confirmed; /**< diagnostic codes confirmed now: bit (1u << diag_dtc_t) (firmware/diag/diag.h) */
+    uint8_t dtc_action;    /**< diag_action_t in force (applied to duty and enable above) */
 } app_output_t;
 
 /**
@@ -224,6 +229,9 @@ typedef struct {
     nism_t nism;              /**< consistency monitor on the estimator's innovations */
     sl_t sl;                  /**< stop-learning routine (APP_MODE_STOP_LEARN) and its last result */
     st_t st;                  /**< online stop tracking (stop_track.h): the estimator's stops follow the unit */
+    diag_t diag;              /**< diagnostic codes; the platform drains its events (diag_event_pop()) */
+    diag_detect_t ddet;       /**< the detectors' state */
+    uint8_t diag_bridge_on;   /**< 1: the bridge drove the period now ending (the open-winding check's condition) */
 } app_t;
 
 /**

@@ -7,6 +7,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <string.h>
 
 #include "tv_paper.h"
 #include "tv_status.h"
@@ -246,6 +247,10 @@ int plant_init(plant_t *plant, const plant_config_t *cfg, uint64_t seed)
         return st;
     }
     plant->cfg = *cfg;
+    plant->cfg_nominal = *cfg;
+    plant_faults_none(&plant->faults);
+    plant->tps_stuck_V[0] = plant->tps_stuck_V[1] = 0.0;
+    plant->tps_stuck_held[0] = plant->tps_stuck_held[1] = 0;
     plant->h_s = 1e-3 / (double)cfg->substeps_per_ms;
     plant_zoh(cfg, 0.5 * plant->h_s, &plant->a_half, &plant->b_half_A_V);
     plant->current_A = 0.0;
@@ -259,8 +264,101 @@ int plant_init(plant_t *plant, const plant_config_t *cfg, uint64_t seed)
     for (k = 0; k < 4; ++k) {
         plant->rng_s[k] = plant_splitmix64(&sm);
     }
+    sm = seed ^ UINT64_C(0x5EED0FA17D1A6000); /* the fault draws: a stream of their own */
+    for (k = 0; k < 4; ++k) {
+        plant->fault_rng_s[k] = plant_splitmix64(&sm);
+    }
     plant->gauss_spare = 0.0;
     plant->gauss_has_spare = 0;
+    return TV_OK;
+}
+
+void plant_faults_none(plant_faults_t *f)
+{
+    if (f == NULL) {
+        return;
+    }
+    memset(f, 0, sizeof *f);
+    f->friction_factor = 1.0;
+    f->spring_factor = 1.0;
+    f->resistance_factor = 1.0;
+}
+
+/* TV_OK, TV_ERR_NONFINITE or TV_ERR_RANGE for the fields of *f against plant.h's ranges. */
+static int plant_faults_check(const plant_faults_t *f, const plant_config_t *nom)
+{
+    const double v[] = {f->friction_factor,  f->jam_Nm,          f->spring_factor,    f->resistance_factor,
+                        f->short_fraction,   f->supply_drop_V,   f->current_offset_A, f->current_gain_err,
+                        f->tps_offset_V[0],  f->tps_offset_V[1], f->tps_gain_err[0],  f->tps_gain_err[1],
+                        f->tps_dropout_prob[0], f->tps_dropout_prob[1]};
+    size_t k;
+    int ch;
+    for (k = 0; k < sizeof v / sizeof v[0]; ++k) {
+        if (!isfinite(v[k])) {
+            return TV_ERR_NONFINITE;
+        }
+    }
+    if (f->friction_factor < 0.1 || f->friction_factor > 100.0 || f->jam_Nm < 0.0 || f->jam_Nm > 1e3 ||
+        f->spring_factor < 0.0 || f->spring_factor > 10.0 || f->resistance_factor < 0.1 ||
+        f->resistance_factor > 100.0 || f->short_fraction < 0.0 || f->short_fraction > 0.95 ||
+        (f->winding_open != 0 && f->winding_open != 1) || f->bridge_lost < -1 || f->bridge_lost > 1 ||
+        f->supply_drop_V < 0.0 || !(f->supply_drop_V < nom->supply_V) || fabs(f->current_offset_A) > 100.0 ||
+        !(f->current_gain_err > -1.0) || f->current_gain_err > 10.0) {
+        return TV_ERR_RANGE;
+    }
+    for (ch = 0; ch < 2; ++ch) {
+        if (fabs(f->tps_offset_V[ch]) > nom->tps_supply_V || !(f->tps_gain_err[ch] > -1.0) ||
+            f->tps_gain_err[ch] > 10.0 || (f->tps_stuck[ch] != 0 && f->tps_stuck[ch] != 1) ||
+            f->tps_dropout_prob[ch] < 0.0 || f->tps_dropout_prob[ch] > 1.0) {
+            return TV_ERR_RANGE;
+        }
+    }
+    return TV_OK;
+}
+
+int plant_set_faults(plant_t *plant, const plant_faults_t *faults)
+{
+    plant_config_t c;
+    const plant_config_t *nom;
+    const char *bad;
+    int st = TV_OK;
+    int ch;
+    if (plant == NULL || faults == NULL) {
+        return TV_ERR_NULL;
+    }
+    nom = &plant->cfg_nominal;
+    st = plant_faults_check(faults, nom);
+    if (st != TV_OK) {
+        return st;
+    }
+    c = *nom;
+    {
+        const double keep = 1.0 - faults->short_fraction;
+        c.Mc_Nm = nom->Mc_Nm * faults->friction_factor;
+        c.Ms_Nm = nom->Ms_Nm * faults->friction_factor;
+        c.M0_Nm = nom->M0_Nm * faults->spring_factor;
+        c.c_Nm_rad = nom->c_Nm_rad * faults->spring_factor;
+        c.R_ohm = nom->R_ohm * faults->resistance_factor * keep;
+        c.Kt_Nm_A = nom->Kt_Nm_A * keep;
+        c.Ke_V_s_rad = nom->Ke_V_s_rad * keep;
+        c.L_H = nom->L_H * keep * keep;
+        c.supply_V = nom->supply_V - faults->supply_drop_V;
+    }
+    bad = plant_config_check_impl(&c, &st);
+    if (bad != NULL) {
+        return st;
+    }
+    if (faults->jam_Nm > 0.0 && !(plant->faults.jam_Nm > 0.0)) {
+        plant->velocity_rad_s = 0.0; /* the plate is blocked where it is */
+    }
+    for (ch = 0; ch < 2; ++ch) {
+        if (!faults->tps_stuck[ch]) {
+            plant->tps_stuck_held[ch] = 0;
+        }
+    }
+    plant->cfg = c;
+    plant->faults = *faults;
+    plant_zoh(&c, 0.5 * plant->h_s, &plant->a_half, &plant->b_half_A_V);
     return TV_OK;
 }
 
@@ -310,6 +408,9 @@ static double plant_enabled_voltage(const plant_t *p, double t0_s, double hs)
     double local0_s;
     double d;
     double on_s;
+    if ((p->faults.bridge_lost > 0 && p->duty > 0.0) || (p->faults.bridge_lost < 0 && p->duty < 0.0)) {
+        return 0.0; /* that direction is lost: both low sides on, 0 V */
+    }
     if (!cfg->pwm_ripple) {
         return p->duty * cfg->supply_V;
     }
@@ -410,10 +511,11 @@ static double plant_solve_velocity(double y, double s1, double beta_P_k, double 
     return y / s1;
 }
 
-/** Stribeck friction level g(w) = Mc + (Ms - Mc) exp(-|w| / ws) [N m]. */
-static double plant_friction_level(const plant_config_t *cfg, double w_rad_s)
+/** Stribeck friction level g(w) = Mc + (Ms - Mc) exp(-|w| / ws) [N m], plus a jam's holding torque. */
+static double plant_friction_level(const plant_t *p, double w_rad_s)
 {
-    return cfg->Mc_Nm + (cfg->Ms_Nm - cfg->Mc_Nm) * exp(-fabs(w_rad_s) / cfg->ws_rad_s);
+    const plant_config_t *cfg = &p->cfg;
+    return cfg->Mc_Nm + (cfg->Ms_Nm - cfg->Mc_Nm) * exp(-fabs(w_rad_s) / cfg->ws_rad_s) + p->faults.jam_Nm;
 }
 
 /**
@@ -425,8 +527,9 @@ static double plant_friction_level(const plant_config_t *cfg, double w_rad_s)
  * when the net torque exceeds Ms); when the plate slides through the whole kick it is
  * re-evaluated at the mean velocity of the first solution (second order in smooth sliding).
  */
-static double plant_kick(const plant_config_t *cfg, double w0, double phi, double i_A, double hs)
+static double plant_kick(const plant_t *p, double w0, double phi, double i_A, double hs)
 {
+    const plant_config_t *cfg = &p->cfg;
     const double beta = hs / cfg->J_kg_m2;
     const double half_visc = 0.5 * beta * cfg->Kv_Nm_s_rad;
     const double s1 = 1.0 + half_visc;
@@ -468,7 +571,7 @@ static double plant_kick(const plant_config_t *cfg, double w0, double phi, doubl
     a0 = contact < 0 ? -beta_P_k : (contact > 0 ? beta_P_k : 0.0);
     for (pass = 0; pass < 2; ++pass) {
         const double w_level = pass == 0 ? w0 : 0.5 * (w0 + w1);
-        const double friction = beta * plant_friction_level(cfg, w_level);
+        const double friction = beta * plant_friction_level(p, w_level);
         if (fabs(z - a0) <= friction) {
             w1 = 0.0; /* sticks: friction absorbs the whole impulse */
         } else if (z - a0 > friction) {
@@ -507,9 +610,19 @@ static double plant_substep(plant_t *p, double hs, double a_half, double b_half_
     double phi_mid;
     double w1;
 
+    if (p->faults.winding_open) {
+        /* open winding: no current whatever the bridge does; the terminals float at the
+           back-EMF (trapezoid over the sub-step) */
+        phi_mid = p->angle_rad + half_s * w0;
+        w1 = plant_kick(p, w0, phi_mid, 0.0, hs);
+        p->angle_rad = phi_mid + half_s * w1;
+        p->velocity_rad_s = w1;
+        p->current_A = 0.0;
+        return cfg->Ke_V_s_rad * cfg->n_gear * half_s * (w0 + w1);
+    }
     i_mid = plant_armature(p, p->current_A, w0, half_s, a_half, b_half_A_V, t0_s, &u_int_a);
     phi_mid = p->angle_rad + half_s * w0;
-    w1 = plant_kick(cfg, w0, phi_mid, i_mid, hs);
+    w1 = plant_kick(p, w0, phi_mid, i_mid, hs);
     p->angle_rad = phi_mid + half_s * w1;
     p->velocity_rad_s = w1;
     p->current_A =
@@ -651,7 +764,6 @@ int plant_sample(plant_t *plant, plant_adc_t *out)
     double n_e1_V;
     double n_e2_V;
     double n_s_V;
-    double x;
     double full_scale;
     double counts_per_V;
     double max_counts;
@@ -671,18 +783,37 @@ int plant_sample(plant_t *plant, plant_adc_t *out)
     max_counts = full_scale - 1.0;
 
     out->t_s = plant_time_s(plant);
-    out->current_pin_V = cfg->current_offset_V + cfg->current_gain_V_A * (plant->current_A + n_i_A);
-    x = (plant->angle_rad + n_phi_rad - cfg->tps_ref_closed_rad) /
-        (cfg->tps_ref_open_rad - cfg->tps_ref_closed_rad);
-    out->tps1_pin_V =
-        cfg->tps_divider_gain *
-        plant_clamp(cfg->tps_supply_V * (cfg->tps_offset_frac + cfg->tps_span_frac * x) + n_e1_V,
-                    0.0, cfg->tps_supply_V);
-    out->tps2_pin_V =
-        cfg->tps_divider_gain *
-        plant_clamp(cfg->tps_supply_V * (1.0 - cfg->tps_offset_frac - cfg->tps_span_frac * x) +
-                        n_e2_V,
-                    0.0, cfg->tps_supply_V);
+    {
+        const plant_faults_t *f = &plant->faults;
+        double track_V[2];
+        double x;
+        int ch;
+        out->current_pin_V = cfg->current_offset_V + cfg->current_gain_V_A * (1.0 + f->current_gain_err) *
+                                                         (plant->current_A + n_i_A + f->current_offset_A);
+        x = (plant->angle_rad + n_phi_rad - cfg->tps_ref_closed_rad) /
+            (cfg->tps_ref_open_rad - cfg->tps_ref_closed_rad);
+        track_V[0] = cfg->tps_supply_V * (cfg->tps_offset_frac + cfg->tps_span_frac * x);
+        track_V[1] = cfg->tps_supply_V * (1.0 - cfg->tps_offset_frac - cfg->tps_span_frac * x);
+        n_e1_V += f->tps_offset_V[0];
+        n_e2_V += f->tps_offset_V[1];
+        track_V[0] = plant_clamp(track_V[0] * (1.0 + f->tps_gain_err[0]) + n_e1_V, 0.0, cfg->tps_supply_V);
+        track_V[1] = plant_clamp(track_V[1] * (1.0 + f->tps_gain_err[1]) + n_e2_V, 0.0, cfg->tps_supply_V);
+        for (ch = 0; ch < 2; ++ch) {
+            if (f->tps_stuck[ch]) {
+                if (!plant->tps_stuck_held[ch]) {
+                    plant->tps_stuck_V[ch] = track_V[ch];
+                    plant->tps_stuck_held[ch] = 1;
+                }
+                track_V[ch] = plant->tps_stuck_V[ch];
+            }
+            if (f->tps_dropout_prob[ch] > 0.0 &&
+                (double)(plant_rng_next(plant->fault_rng_s) >> 11) * PLANT_TWO_POW_M53 < f->tps_dropout_prob[ch]) {
+                track_V[ch] = 0.0; /* the wiper lost contact: the pull-down reads 0 V */
+            }
+        }
+        out->tps1_pin_V = cfg->tps_divider_gain * track_V[0];
+        out->tps2_pin_V = cfg->tps_divider_gain * track_V[1];
+    }
     out->supply_pin_V = cfg->supply_divider_gain * (cfg->supply_V + n_s_V);
 
     out->current_counts = plant_quantise(out->current_pin_V, counts_per_V, max_counts);

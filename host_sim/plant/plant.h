@@ -215,11 +215,52 @@ typedef struct {
 } plant_adc_t;
 
 /**
+ * Faults acting on the plant and its analogue front end (plant_set_faults(); the spec parser
+ * and time schedule of host_sim are in plant_fault.h). plant_faults_none() is the healthy
+ * plant; every field's healthy value is given. The physical faults change the parameters the
+ * integration uses (plant_t::cfg, derived from the nominal plant_t::cfg_nominal); the sensor
+ * faults change the pin voltages of plant_sample() before quantisation.
+ */
+typedef struct {
+    double friction_factor;   /**< Mc and Ms x this [-]; healthy 1; 0.1..100 */
+    double jam_Nm;            /**< jam: a holding torque added to the friction level [N m], the
+                                   plate stopped where it is when it starts (velocity set to 0);
+                                   healthy 0; 0..1e3 */
+    double spring_factor;     /**< M0 and c x this [-]; healthy 1; 0..10 */
+    double resistance_factor; /**< R x this [-]; healthy 1; 0.1..100 */
+    double short_fraction;    /**< part of the turns shorted [-]: R, Kt and Ke x (1 - s), L x (1 - s)^2
+                                   (the circulating current in the shorted turns is not modelled);
+                                   healthy 0; 0..0.95 */
+    int winding_open;         /**< 1: the winding is open: i = 0 whatever the bridge does, the
+                                   terminals float at the back-EMF; healthy 0 */
+    int bridge_lost;          /**< +1: the bridge cannot drive positive duty (it applies 0 V, both
+                                   low sides on, when positive duty is commanded); -1: negative;
+                                   healthy 0 */
+    double supply_drop_V;     /**< supply sag: the bridge supply (and what the supply pin measures)
+                                   is supply_V - this [V]; healthy 0; 0 <= drop < supply_V */
+    double current_offset_A;  /**< current-sense offset referred to the winding current [A]; healthy 0; |.| <= 100 */
+    double current_gain_err;  /**< current-sense gain error [-] (gain x (1 + this)); healthy 0; > -1, <= 10 */
+    double tps_offset_V[2];   /**< offset added to track 1 / track 2's output [V]; healthy 0; |.| <= tps_supply_V */
+    double tps_gain_err[2];   /**< track output x (1 + this) [-]; healthy 0; > -1, <= 10 */
+    int tps_stuck[2];         /**< 1: the track's output stays at its value of the first
+                                   plant_sample() after the fault started; healthy 0 */
+    double tps_dropout_prob[2]; /**< intermittent track: probability per plant_sample() that the
+                                     wiper loses contact and the output reads 0 V [-]; healthy 0;
+                                     0..1 (drawn from a generator of its own: the noise stream of
+                                     the plant is the same as in a healthy run) */
+} plant_faults_t;
+
+/**
  * The plant instance. Complete here so it can be allocated statically; treat every field as
  * private and use the functions below.
  */
 typedef struct {
-    plant_config_t cfg;     /**< validated copy of the configuration */
+    plant_config_t cfg;     /**< parameters in force: cfg_nominal with the faults applied */
+    plant_config_t cfg_nominal; /**< validated copy of the configuration (the healthy unit) */
+    plant_faults_t faults;  /**< faults in force (plant_set_faults()) */
+    double tps_stuck_V[2];  /**< output of a stuck track [V] (valid when tps_stuck_held) */
+    int tps_stuck_held[2];  /**< 1: tps_stuck_V holds the stuck output */
+    uint64_t fault_rng_s[4]; /**< xoshiro256** state of the intermittent-track draws */
     double h_s;             /**< integration sub-step [s] */
     double a_half;          /**< exp(-R h / (2 L)): armature decay over half a sub-step [-] */
     double b_half_A_V;      /**< armature ZOH gain over half a sub-step [A/V] */
@@ -297,6 +338,22 @@ int plant_advance(plant_t *plant, double dt_s);
  * @return TV_OK; TV_ERR_NULL.
  */
 int plant_sample(plant_t *plant, plant_adc_t *out);
+
+/** Fill *f with the healthy values of plant_faults_t (no fault). Does nothing when f is NULL. */
+void plant_faults_none(plant_faults_t *f);
+
+/**
+ * Put faults into force from now on (the next plant_advance() and plant_sample()). The
+ * parameters in force are recomputed from the nominal configuration each call, so a call with
+ * plant_faults_none() restores the healthy unit. A jam that starts (jam_Nm goes from 0 to
+ * > 0) stops the plate where it is; a stuck track starts holding at the next conversion.
+ * @param plant   the plant
+ * @param faults  faults (copied)
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE if a field is NaN/Inf; TV_ERR_RANGE if a field
+ *         is outside its documented range; TV_ERR_CONFIG if the faulty parameters fail
+ *         plant_config_check() (a stability bound). On error nothing is changed.
+ */
+int plant_set_faults(plant_t *plant, const plant_faults_t *faults);
 
 /**
  * True state at the current plant time.

@@ -11,6 +11,7 @@
 #include <sys/resource.h>
 #include <time.h>
 
+#include "diag_csv.h"
 #include "numfmt.h"
 #include "tv_status.h"
 
@@ -426,6 +427,22 @@ int replay_run(rlr_t *r, const replay_options_t *o, replay_stats_t *st)
                 ++st->ekf_rejections;
             }
             st->faults = out.faults;
+            st->dtc_active = out.dtc_confirmed;
+            {
+                /* the diagnostic events of this step (the application's queue, drained every sample) */
+                diag_event_t ev;
+                while (diag_event_pop(&app.diag, &ev)) {
+                    ++st->dtc_events;
+                    if (ev.kind == DIAG_EV_CONFIRMED && ((st->dtc_ever >> ev.dtc) & 1u) == 0u) {
+                        st->dtc_ever |= 1u << ev.dtc;
+                        st->dtc_first_us[ev.dtc] = ev.t_us;
+                    }
+                    if (o->events != NULL && diag_csv_event(o->events, &ev) != TV_OK) {
+                        st->io_error = 1;
+                    }
+                }
+                st->dtc_events_lost = app.diag.events_lost;
+            }
             if (o->out != NULL) {
                 const double t0 = o->timing ? now_s() : 0.0;
                 const size_t n = format_line(line, &rec, &out, o, r->has_truth);
@@ -489,6 +506,22 @@ int replay_exit_code(const replay_stats_t *st)
     return st->skipped > 0u ? RLR_EXIT_SKIPPED : RLR_EXIT_OK;
 }
 
+/* The diagnostic codes confirmed during the replay, with their first times. */
+static void replay_print_codes(FILE *f, const replay_stats_t *st)
+{
+    int k;
+    fprintf(f, "replay: diagnostic codes confirmed:");
+    for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
+        if ((st->dtc_ever >> k) & 1u) {
+            const diag_dtc_info_t *i = diag_dtc_info((diag_dtc_t)k);
+            fprintf(f, " %s (%s) at t = %.6f s%s;", i->code, i->fault_class, (double)st->dtc_first_us[k] * 1e-6,
+                    (st->dtc_active >> k) & 1u ? "" : ", healed since");
+        }
+    }
+    fprintf(f, "%s (%llu events, %lu lost)\n", st->dtc_ever == 0u ? " none" : "", (unsigned long long)st->dtc_events,
+            (unsigned long)st->dtc_events_lost);
+}
+
 void replay_print_summary(FILE *f, const rlr_t *r, const replay_stats_t *st, const replay_options_t *o)
 {
     if (f == NULL || r == NULL || st == NULL || o == NULL) {
@@ -536,6 +569,7 @@ void replay_print_summary(FILE *f, const rlr_t *r, const replay_stats_t *st, con
         fprintf(f, "replay: faults latched 0x%03lx (%llu samples with a fault), EKF rejections %llu\n",
                 (unsigned long)st->faults, (unsigned long long)st->fault_samples,
                 (unsigned long long)st->ekf_rejections);
+        replay_print_codes(f, st);
     }
     if (st->stop_err != RLR_E_NONE) {
         fprintf(f, "replay: stopped at the first error (%s): exit %d%s\n", rlr_err_name(st->stop_err),

@@ -64,6 +64,7 @@ typedef struct {
     int parse_only;             /**< 1: read and validate only (no estimator, no output) */
     int wide;                   /**< 1: also measurements, supply, innovation sigmas */
     FILE *out;                  /**< output CSV stream, NULL for none */
+    FILE *events;               /**< NULL, or a stream for the diagnostic events (diag_csv.h: t_us,status,fault_class,dtc) */
     FILE *diag;                 /**< messages and summary (stderr), NULL for silence */
     unsigned max_messages;      /**< messages per error class, and gap notes */
     int progress;               /**< 1: a progress line on diag (the tool sets it when diag is a tty) */
@@ -84,6 +85,11 @@ typedef struct {
     uint64_t fault_samples;     /**< samples with any fault latched */
     uint64_t ekf_rejections;    /**< samples whose EKF step was rejected (ekf_status != 0) */
     uint32_t faults;            /**< latched fault mask at the end (APP_FAULT_*) */
+    uint64_t dtc_events;        /**< diagnostic events of the application (firmware/diag/diag.h) */
+    uint32_t dtc_events_lost;   /**< events its queue dropped */
+    uint32_t dtc_ever;          /**< codes confirmed at some time (bit per diag_dtc_t) */
+    uint32_t dtc_active;        /**< codes confirmed at the end */
+    uint64_t dtc_first_us[DIAG_DTC_COUNT]; /**< each code's first confirmation [us] (valid where dtc_ever has its bit) */
     uint64_t first_t_us;        /**< time of the first replayed sample */
     uint64_t last_t_us;         /**< time of the last replayed sample */
     int stopped_at_stop;        /**< 1: the stop time ended the replay */

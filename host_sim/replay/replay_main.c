@@ -12,6 +12,7 @@
 #include <unistd.h>
 
 #include "cli.h"
+#include "diag_csv.h"
 #include "params.h"
 #include "replay.h"
 #include "tv_status.h"
@@ -49,6 +50,8 @@ static void usage(FILE *f)
             "  --on-error stop|skip    stop at the first bad input (default), or skip it, count it, go on\n"
             "  --max-messages N        messages printed per kind of error (default %u)\n"
             "  --wide                  also measurements, supply voltage, innovation sigmas\n"
+            "  --events FILE           write the diagnostic events (firmware/diag/diag.h) as CSV:\n"
+            "                          t_us,status,fault_class,dtc (status pending|confirmed|healed)\n"
             "  --parse-only            read and validate the log only (no estimator, no output)\n"
             "  --timing                print timing (share outside the estimator) and peak RSS at the end\n"
             "  --quiet                 no summary on stderr (errors are still printed)\n"
@@ -72,6 +75,7 @@ int main(int argc, char **argv)
     rlr_format_t format = RLR_FMT_AUTO;
     const char *in_path = NULL;
     const char *out_path = NULL;
+    const char *events_path = NULL;
     const char *params_path = NULL;
     int quiet = 0;
     int print_params = 0;
@@ -84,7 +88,7 @@ int main(int argc, char **argv)
     cli_noise_overrides_t ov;
     static const char *const takes_value[] = {"--format", "-o", "--out", "--setup", "--params", "--qu", "--qT",
                                               "--r-current", "--r-angle", "--r-velocity", "--start", "--stop",
-                                              "--on-error", "--max-messages", NULL};
+                                              "--on-error", "--max-messages", "--events", NULL};
 
     replay_options_default(&opt);
     memset(&ov, 0, sizeof ov);
@@ -132,6 +136,11 @@ int main(int argc, char **argv)
             }
         } else if (strcmp(a, "-o") == 0 || strcmp(a, "--out") == 0) {
             out_path = v;
+        } else if (strcmp(a, "--events") == 0) {
+            if (*v == '\0') {
+                return usage_error("option %s: empty path", a);
+            }
+            events_path = v;
         } else if (strcmp(a, "--params") == 0) {
             params_path = v;
         } else if (strcmp(a, "--setup") == 0) {
@@ -235,6 +244,30 @@ int main(int argc, char **argv)
         }
         (void)setvbuf(out, s_outbuf, _IOFBF, sizeof s_outbuf);
     }
+    if (events_path != NULL && !opt.parse_only) {
+        if (cli_same_file(in_path, events_path)) {
+            fprintf(stderr, "%s: the events file %s is the input log: refusing to overwrite it\n", s_prog, events_path);
+            rc = RLR_EXIT_USAGE;
+        } else {
+            opt.events = fopen(events_path, "w");
+            rc = opt.events != NULL && diag_csv_header(opt.events) == TV_OK ? RLR_EXIT_OK : RLR_EXIT_IO;
+            if (rc != RLR_EXIT_OK) {
+                fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, events_path, strerror(errno));
+            }
+        }
+        if (rc != RLR_EXIT_OK) {
+            if (opt.events != NULL) {
+                (void)fclose(opt.events);
+            }
+            if (in != stdin) {
+                (void)fclose(in);
+            }
+            if (out != NULL && out != stdout) {
+                (void)fclose(out);
+            }
+            return rc;
+        }
+    }
     opt.out = out;
     opt.diag = stderr;
     opt.progress = isatty(fileno(stderr)) && !quiet;
@@ -252,6 +285,10 @@ int main(int argc, char **argv)
     }
     if (in != stdin) {
         (void)fclose(in);
+    }
+    if (opt.events != NULL && fclose(opt.events) != 0 && rc == RLR_EXIT_OK) {
+        fprintf(stderr, "%s: error writing %s\n", s_prog, events_path);
+        rc = RLR_EXIT_IO;
     }
     if (out != NULL && out != stdout) {
         if (fclose(out) != 0 && rc == RLR_EXIT_OK) {

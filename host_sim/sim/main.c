@@ -39,6 +39,7 @@ static params_t s_params;
 static plant_config_t s_plant_cfg;
 static app_config_t s_app_cfg;
 static rlw_t s_raw;
+static plant_fault_list_t s_faults;
 
 /* Row callback: one raw-log record per application tick. */
 typedef struct {
@@ -76,7 +77,8 @@ static void usage(FILE *f)
             "          [--qu X] [--qT X] [--r-current X] [--r-angle X] [--r-velocity X]\n"
             "          [--pwm-ripple] [--drop-every N] [--out DIR] [--params FILE] [--print-params]\n"
             "          [--raw-log PATH [--raw-format csv|bin]] [--plant-params FILE] [--print-plant-params]\n"
-            "          [--plant-class a|b] [--unit ID [--spread stops|all]] [--help]\n"
+            "          [--plant-class a|b] [--unit ID [--spread stops|all]]\n"
+            "          [--fault KIND[:MAGNITUDE]@T_S[:RAMP_S] ...] [--events FILE] [--help]\n"
             "\n"
             "Runs the firmware's 1 kHz application (double build) against the high-fidelity plant.\n"
             "With no arguments: the paper's experiment (paper_sine, 2 s, seed 1) into out/.\n"
@@ -121,9 +123,22 @@ static void usage(FILE *f)
             "                    (the same ID is always the same unit); the ECU is calibrated for it\n"
             "  --spread S        what --unit varies: stops (stops, contact, sensor front end) or all\n"
             "                    (default: also motor, friction, springs)\n"
+            "  --fault SPEC      inject a fault (repeatable, up to %u): KIND:MAGNITUDE@T_S, or\n"
+            "                    KIND@T_S for a kind without a magnitude; :RAMP_S after the time\n"
+            "                    makes it a drift reaching MAGNITUDE at T_S + RAMP_S, e.g.\n"
+            "                    friction_high:2@1.5 (Mc, Ms x2 from 1.5 s), tps1_offset:1@0.5:0.2.\n"
+            "                    Kinds (host_sim/plant/plant_fault.h):\n",
+            SIM_DURATION_MAX_S, SIM_MC_SEEDS_MAX, (double)EKF_DEFAULT_QU_V2_S, (double)EKF_DEFAULT_QT_NM2_S,
+            PLANT_FAULT_LIST_MAX);
+    for (k = 0; k < (int)PLANT_FAULT_KIND_COUNT; ++k) {
+        fprintf(f, "                      %-24s %s\n", plant_fault_kind_name((plant_fault_kind_t)k),
+                plant_fault_kind_help((plant_fault_kind_t)k));
+    }
+    fprintf(f,
+            "  --events FILE     write the diagnostic events (firmware/diag/diag.h) as CSV:\n"
+            "                    t_us,status,fault_class,dtc, status pending|confirmed|healed\n"
             "Outputs: DIR/<scenario>.csv, DIR/<scenario>_metrics.txt, DIR/<scenario>_metrics.json.\n"
-            "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n",
-            SIM_DURATION_MAX_S, SIM_MC_SEEDS_MAX, (double)EKF_DEFAULT_QU_V2_S, (double)EKF_DEFAULT_QT_NM2_S);
+            "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n");
 }
 
 static FILE *open_out(const char *dir, const char *scn, const char *suffix, char *path, size_t cap)
@@ -176,6 +191,7 @@ int main(int argc, char **argv)
     const char *scn;
     const char *params_path = NULL;
     const char *raw_path = NULL;
+    const char *events_path = NULL;
     rlr_format_t raw_format = RLR_FMT_CSV;
     int print_params = 0;
     int print_plant_params = 0;
@@ -190,7 +206,7 @@ int main(int argc, char **argv)
     static const char *const takes_value[] = {"--scenario", "--duration", "--seed", "--mc", "--setup", "--qu", "--qT",
                                               "--r-current", "--r-angle", "--r-velocity", "--drop-every", "--out",
                                               "--params", "--raw-log", "--raw-format", "--plant-params", "--plant-class",
-                                              "--unit", "--spread", NULL};
+                                              "--unit", "--spread", "--fault", "--events", NULL};
 
     sim_options_default(&opt);
     memset(&ov, 0, sizeof ov);
@@ -225,6 +241,17 @@ int main(int argc, char **argv)
             }
         } else if (strcmp(a, "--params") == 0) {
             params_path = v;
+        } else if (strcmp(a, "--events") == 0) {
+            if (*v == '\0') {
+                return usage_error("option %s: empty path", a);
+            }
+            events_path = v;
+        } else if (strcmp(a, "--fault") == 0) {
+            char msg[PLANT_FAULT_MSG_MAX];
+            if (plant_fault_list_add(&s_faults, v, msg, sizeof msg) != TV_OK) {
+                return usage_error("option %s: %s", a, msg);
+            }
+            opt.faults = &s_faults;
         } else if (strcmp(a, "--plant-params") == 0) {
             plant_params_path = v;
         } else if (strcmp(a, "--plant-class") == 0) {
@@ -385,6 +412,9 @@ int main(int argc, char **argv)
     if (raw_path != NULL && mc > 0u) {
         return usage_error("--raw-log writes one run; it cannot be combined with --mc");
     }
+    if (events_path != NULL && mc > 0u) {
+        return usage_error("--events writes one run; it cannot be combined with --mc");
+    }
     if (cli_make_dirs(out_dir) != 0) {
         fprintf(stderr, "%s: cannot create output directory %s: %s\n", s_prog, out_dir, strerror(errno));
         return MAIN_EXIT_FAIL;
@@ -466,9 +496,26 @@ int main(int argc, char **argv)
             opt.row_user = &raw_ctx;
         }
         opt.csv = f;
+        if (events_path != NULL) {
+            opt.events = fopen(events_path, "w");
+            if (opt.events == NULL) {
+                fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, events_path, strerror(errno));
+                (void)fclose(f);
+                if (raw != NULL) {
+                    (void)fclose(raw);
+                }
+                return MAIN_EXIT_FAIL;
+            }
+        }
         rc = sim_run(&opt, &r);
         if (close_out(f, path) != 0) {
             return MAIN_EXIT_FAIL;
+        }
+        if (opt.events != NULL) {
+            if (close_out(opt.events, events_path) != 0) {
+                return MAIN_EXIT_FAIL;
+            }
+            fprintf(stderr, "wrote %s (%lu events)\n", events_path, (unsigned long)r.dtc_events);
         }
         if (raw != NULL) {
             const int wrc = rlw_close(&s_raw);
@@ -479,7 +526,8 @@ int main(int argc, char **argv)
             }
         }
         if (rc != TV_OK) {
-            fprintf(stderr, "%s: run failed: %s\n", s_prog, tv_status_str(rc));
+            fprintf(stderr, "%s: run failed: %s%s\n", s_prog, tv_status_str(rc),
+                    rc == TV_ERR_CONFIG && opt.faults != NULL ? " (or a --fault the unit cannot take, e.g. a supply sag above its supply)" : "");
             return MAIN_EXIT_FAIL;
         }
         fprintf(stderr, "wrote %s\n", path);

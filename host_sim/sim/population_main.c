@@ -68,6 +68,9 @@ typedef struct {
     double nees_win_max;
     int flagged;        /**< consistency monitor raised a flag */
     int faults;         /**< latched faults at the end */
+    uint32_t dtc;       /**< diagnostic codes confirmed during the run (bit per diag_dtc_t) */
+    uint32_t dtc_pending; /**< diagnostic codes that went pending during the run */
+    double dtc_first_s;   /**< earliest confirmation of any code [s] (NaN: none) */
 } pop_run_t;
 
 static pop_run_t s_runs[POP_NSEC][POP_RUNS_MAX];
@@ -80,9 +83,12 @@ typedef struct {
     double err_open_max;   /**< largest |learned - plant| open stop [rad] */
     double speed_max;      /**< largest plate speed near a stop while learning [rad/s] */
     double time_max_s;     /**< longest routine [s] */
+    unsigned dtc;          /**< routines during which a diagnostic code was confirmed */
 } pop_learn_t;
 
 static pop_learn_t s_learn[POP_NSEC];
+/** --fault: injected into every scored run (not into the stop learning nor the nominal unit's run). */
+static plant_fault_list_t s_faults;
 
 static double max_finite(double a, double b)
 {
@@ -104,6 +110,15 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
         return rc;
     }
     ++l->units;
+    {
+        int d;
+        for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+            if (isfinite(r.dtc_confirm_t_s[d])) {
+                ++l->dtc;
+                break;
+            }
+        }
+    }
     l->speed_max = max_finite(l->speed_max, r.stop_contact_speed_max);
     l->time_max_s = max_finite(l->time_max_s, r.stop_learn_s);
     if (r.stop_learn_phase != (int)SL_DONE) {
@@ -152,7 +167,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--first-seed F] [--scenarios A,B,...]\n"
             "          [--duration S] [--sections LIST] [--params FILE] [--stop-learning on|off]\n"
-            "          [--json PATH] [--runs-csv PATH] [--params-out DIR] [--quick] [--help]\n"
+            "          [--json PATH] [--runs-csv PATH] [--params-out DIR] [--fault SPEC ...] [--quick] [--help]\n"
             "\n"
             "Runs the application's estimator (double build) on a population of throttles\n"
             "(host_sim/plant/plant_draw.h) over a scenario mix and scores its velocity against\n"
@@ -187,6 +202,9 @@ static void usage(FILE *f)
             "  --params-out DIR  also write each unit's filter parameter file (after stop learning)\n"
             "                    as DIR/<section>_<ID>.params: host_sim --unit ID --spread S\n"
             "                    --params FILE then reruns one of its runs with the CSV trace\n"
+            "  --fault SPEC      inject a fault into every scored run (repeatable; the syntax and kinds\n"
+            "                    of host_sim --fault, host_sim/plant/plant_fault.h); the stop learning\n"
+            "                    and the nominal unit's reference run stay healthy\n"
             "  --quick           6 plants, 1 seed (a few seconds)\n"
             "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n");
 }
@@ -208,6 +226,8 @@ typedef struct {
     double nees_win_max;
     unsigned flagged;
     unsigned faulted;
+    unsigned dtc;         /**< runs with a diagnostic code confirmed */
+    unsigned dtc_pending; /**< runs with a diagnostic code pending at least once */
 } pop_sum_t;
 
 static void summarise(const pop_run_t *r, unsigned n, int scn, pop_sum_t *s)
@@ -233,6 +253,8 @@ static void summarise(const pop_run_t *r, unsigned n, int scn, pop_sum_t *s)
         }
         s->flagged += r[k].flagged ? 1u : 0u;
         s->faulted += r[k].faults ? 1u : 0u;
+        s->dtc += r[k].dtc != 0u ? 1u : 0u;
+        s->dtc_pending += r[k].dtc_pending != 0u ? 1u : 0u;
     }
     s->runs = m;
     if (m > 0u) {
@@ -263,13 +285,15 @@ static void json_sum(FILE *f, const pop_sum_t *s, unsigned plants)
     json_num(f, s->nees_max);
     fputs(", \"nees_window_max\": ", f);
     json_num(f, s->nees_win_max);
-    fprintf(f, ", \"consistency_flags_healthy\": %u, \"runs_with_faults\": %u}", s->flagged, s->faulted);
+    fprintf(f, ", \"consistency_flags_healthy\": %u, \"runs_with_faults\": %u, \"runs_with_dtc_confirmed\": %u, "
+               "\"runs_with_dtc_pending\": %u}",
+            s->flagged, s->faulted, s->dtc, s->dtc_pending);
 }
 
 static void print_sum(FILE *f, const char *label, const pop_sum_t *s)
 {
-    fprintf(f, "  %-14s %5u  %8.2f  %8.2f  %9.3g  %9.3g  %9.3g  %5u  %5u\n", label, s->runs, s->worst_ratio,
-            s->median_ratio, s->nees_min, s->nees_max, s->nees_win_max, s->flagged, s->faulted);
+    fprintf(f, "  %-14s %5u  %8.2f  %8.2f  %9.3g  %9.3g  %9.3g  %5u  %5u  %5u  %5u\n", label, s->runs, s->worst_ratio,
+            s->median_ratio, s->nees_min, s->nees_max, s->nees_win_max, s->flagged, s->faulted, s->dtc, s->dtc_pending);
 }
 
 /* mkdir -p of the directory part of path; 0 on success (cli_make_dirs() does the work). */
@@ -311,7 +335,7 @@ int main(int argc, char **argv)
     int sec;
     static const char *const takes_value[] = {"--plants", "--seeds", "--first-unit", "--first-seed", "--scenarios", "--duration",
                                               "--sections", "--params", "--json", "--runs-csv", "--stop-learning",
-                                              "--params-out", NULL};
+                                              "--params-out", "--fault", NULL};
     int stop_learning = 1;
 
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
@@ -417,6 +441,11 @@ int main(int argc, char **argv)
             json_path = v;
         } else if (strcmp(a, "--params-out") == 0) {
             params_out = v;
+        } else if (strcmp(a, "--fault") == 0) {
+            char msg[PLANT_FAULT_MSG_MAX];
+            if (plant_fault_list_add(&s_faults, v, msg, sizeof msg) != TV_OK) {
+                return usage_error("option %s: %s", a, msg);
+            }
         } else {
             runs_csv = v;
         }
@@ -442,7 +471,7 @@ int main(int argc, char **argv)
             return 1;
         }
         fprintf(csv, "section,unit,class,scenario,seed,rmse_filter_rad_s,rmse_diff_rad_s,ratio,nees_avg,nees_window_max,"
-                     "consistency_flagged,faults\n");
+                     "consistency_flagged,faults,dtc_confirmed,dtc_pending,dtc_first_s\n");
     }
 
     /* the nominal unit of class A, the paper's experiment, seed 1, with the same --params */
@@ -516,6 +545,7 @@ int main(int argc, char **argv)
                     opt.warmup_s = sec == POP_SEC_ADAPTED ? POP_ADAPT_WARMUP_S : 0.0;
                     opt.plant = &pc;
                     opt.app = &ac;
+                    opt.faults = &s_faults;
                     rc = sim_run(&opt, &r);
                     if (rc != TV_OK) {
                         fprintf(stderr, "%s: unit %llu, %s, seed %llu: %s\n", s_prog, (unsigned long long)unit,
@@ -537,11 +567,24 @@ int main(int argc, char **argv)
                     run->nees_win_max = r.nees_window_max;
                     run->flagged = r.consistency_episodes > 0u;
                     run->faults = r.faults != 0u;
+                    run->dtc = 0u;
+                    run->dtc_pending = 0u;
+                    run->dtc_first_s = (double)NAN;
+                    {
+                        int d;
+                        for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+                            run->dtc |= isfinite(r.dtc_confirm_t_s[d]) ? 1u << d : 0u;
+                            if (isfinite(r.dtc_confirm_t_s[d]) && !(r.dtc_confirm_t_s[d] >= run->dtc_first_s)) {
+                                run->dtc_first_s = r.dtc_confirm_t_s[d];
+                            }
+                            run->dtc_pending |= isfinite(r.dtc_pending_t_s[d]) ? 1u << d : 0u;
+                        }
+                    }
                     if (csv != NULL) {
-                        fprintf(csv, "%s,%llu,%s,%s,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d\n", s_sec_name[sec],
+                        fprintf(csv, "%s,%llu,%s,%s,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d,%lu,%lu,%.6g\n", s_sec_name[sec],
                                 (unsigned long long)unit, plant_class_name(cls), sim_scenario_name(opt.scenario), s,
                                 run->rmse_filter, run->rmse_diff, run->ratio, run->nees_avg, run->nees_win_max, run->flagged,
-                                (int)r.faults);
+                                (int)r.faults, (unsigned long)run->dtc, (unsigned long)run->dtc_pending, run->dtc_first_s);
                     }
                 }
             }
@@ -564,8 +607,8 @@ int main(int argc, char **argv)
         printf("\n%s: units %llu..%llu, seeds %llu..%llu (ratio = differentiation RMSE / filter RMSE, velocity)\n",
                s_sec_name[sec], first_unit, first_unit + plants - 1u, first_seed,
                first_seed + seeds - 1u);
-        printf("  %-14s %5s  %8s  %8s  %9s  %9s  %9s  %5s  %5s\n", "scenario", "runs", "worst", "median", "NEES min",
-               "NEES max", "NEES 0.1s", "flag", "fault");
+        printf("  %-14s %5s  %8s  %8s  %9s  %9s  %9s  %5s  %5s  %5s  %5s\n", "scenario", "runs", "worst", "median", "NEES min",
+               "NEES max", "NEES 0.1s", "flag", "fault", "dtc", "dtcP");
         for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
             if (use_scn[k]) {
                 summarise(s_runs[sec], n_runs[sec], k, &s);
@@ -577,8 +620,8 @@ int main(int argc, char **argv)
         if (stop_learning) {
             const pop_learn_t *l = &s_learn[sec];
             printf("  stop learning: %u units, %u failed; largest error closed %.2f mrad, open %.2f mrad; "
-                   "largest speed near a stop %.3g rad/s; longest %.2f s\n",
-                   l->units, l->failed, 1e3 * l->err_closed_max, 1e3 * l->err_open_max, l->speed_max, l->time_max_s);
+                   "largest speed near a stop %.3g rad/s; longest %.2f s; %u with a diagnostic code confirmed\n",
+                   l->units, l->failed, 1e3 * l->err_closed_max, 1e3 * l->err_open_max, l->speed_max, l->time_max_s, l->dtc);
         }
     }
 

@@ -45,6 +45,7 @@
 #include "sim_tracking.h"
 #include "ekf.h"
 #include "plant.h"
+#include "plant_fault.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -143,6 +144,7 @@ typedef struct {
     double nees;                /**< NEES of the application filter (NaN if P not PD) */
     int mode;                   /**< app_mode_t in force */
     uint32_t faults;            /**< latched APP_FAULT_* mask */
+    uint32_t dtc_confirmed;     /**< app_output_t::dtc_confirmed (bit per diag_dtc_t) */
     int ekf_status;             /**< status of the application filter's step */
     uint32_t missing_samples;   /**< samples missing before this one */
     double x_paper[TVM_NX];     /**< SIM_EST_PAPER_SETUP estimate */
@@ -178,9 +180,14 @@ typedef struct {
      *  friction) have seen the unit before it is scored. Not with stuck_release and stop_learn,
      *  which start from a given plate state. [s] */
     double warmup_s;
+    const plant_fault_list_t *faults; /**< NULL, or faults injected into the plant and its sensors
+                                    (plant_fault.h): each tick t_k the faults in force at t_k are set
+                                    before the application reads the ADC */
     uint32_t drop_tick_every;  /**< 0: never; N > 1: every N-th tick the application is not run
                                     (a missing sample, predicted across by the application) */
     FILE *csv;                 /**< NULL, or a stream for the CSV log (header + one line per tick) */
+    FILE *events;              /**< NULL, or a stream for the diagnostic events: header
+                                    "t_us,status,fault_class,dtc", one line per event (diag_csv.h) */
     sim_row_fn row_fn;         /**< NULL, or called once per tick */
     void *row_user;            /**< passed to row_fn */
 } sim_options_t;
@@ -203,6 +210,7 @@ typedef struct {
     uint32_t nis_n;             /**< N of that average */
     double nis_ch_avg[EKF_NCH]; /**< average NIS of each channel over its corrections (1 dof; NaN: unused) */
     uint32_t faults;            /**< latched APP_FAULT_* mask at the end */
+    uint32_t dtc_confirmed;     /**< diagnostic codes confirmed at the end (bit per diag_dtc_t) */
     uint32_t fault_ticks;       /**< ticks with any fault latched */
     double first_fault_t_s;     /**< time of the first fault [s], NaN if none */
     uint32_t ekf_rejections;    /**< ticks whose application-filter step failed */
@@ -237,6 +245,10 @@ typedef struct {
     double stop_learn_k;             /**< fitted contact stiffness [N m/rad^e] (NaN unless SL_DONE) */
     double stop_learn_exponent;      /**< fitted contact exponent (common to both stops; NaN unless SL_DONE) */
     double stop_learn_s;             /**< time the routine ran [s] */
+    double dtc_confirm_t_s[DIAG_DTC_COUNT]; /**< time of each code's first confirmation [s] (NaN: never) */
+    double dtc_pending_t_s[DIAG_DTC_COUNT]; /**< time of each code's first pending event [s] (NaN: never) */
+    uint32_t dtc_events;             /**< diagnostic events drained from the application */
+    uint32_t dtc_events_lost;        /**< events the application's queue dropped (diag_t::events_lost) */
     double stop_contact_speed_max;   /**< largest plant velocity INTO a stop [rad/s] at a tick whose plant
                                           angle was within SIM_CONTACT_NEAR_RAD of that stop or beyond it,
                                           while APP_MODE_STOP_LEARN was in force (NaN: never there) */
@@ -296,7 +308,8 @@ const char *sim_est_id(sim_est_t e);
  * @param res results (always written: zeroed / NaN first)
  * @return TV_OK; TV_ERR_NULL; TV_ERR_RANGE (duration, scenario, drop_tick_every == 1);
  *         TV_ERR_NONFINITE / TV_ERR_CONFIG (a Q / R override or a plant / application
- *         configuration rejected by its init); TV_ERR_IO (CSV write failed); TV_ERR_NUMERIC
+ *         configuration rejected by its init, or a fault that the plant refuses at its full
+ *         size, e.g. a supply sag larger than the supply); TV_ERR_IO (CSV write failed); TV_ERR_NUMERIC
  *         (the plant integration failed).
  */
 int sim_run(const sim_options_t *opt, sim_result_t *res);

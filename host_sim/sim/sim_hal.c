@@ -114,6 +114,14 @@ void sim_hal_outputs(float *duty, int *enable)
     }
 }
 
+int sim_hal_set_faults(const plant_faults_t *faults)
+{
+    if (!s_configured) {
+        return TV_ERR_CONFIG;
+    }
+    return plant_set_faults(&s_plant, faults);
+}
+
 void sim_hal_set_driver_fault(int active)
 {
     s_driver_fault = active ? 1 : 0;

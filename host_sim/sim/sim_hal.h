@@ -86,6 +86,12 @@ double sim_hal_time_s(void);
  */
 void sim_hal_outputs(float *duty, int *enable);
 
+/**
+ * Put plant faults into force (plant_set_faults(); the schedule is plant_fault.h's).
+ * @return TV_OK; TV_ERR_CONFIG before sim_hal_configure(); otherwise plant_set_faults()'s status.
+ */
+int sim_hal_set_faults(const plant_faults_t *faults);
+
 /** Set the driver-fault input that hal_driver_fault() reports (nonzero: fault active). */
 void sim_hal_set_driver_fault(int active);
 

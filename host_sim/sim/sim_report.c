@@ -171,6 +171,21 @@ int sim_result_print(FILE *f, const sim_result_t *r)
                "paper set-up rejections %lu\n",
             (unsigned long)r->paper_printed_resets, (unsigned long)r->paper_eq12_resets,
             (unsigned long)r->paper_eq12x_resets, (unsigned long)r->paper_setup_rejections);
+    {
+        int k;
+        int any = 0;
+        fprintf(f, "diagnostic codes (firmware/diag/diag.h): %lu events, %lu lost", (unsigned long)r->dtc_events,
+                (unsigned long)r->dtc_events_lost);
+        for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
+            const diag_dtc_info_t *i = diag_dtc_info((diag_dtc_t)k);
+            if (sim_finite(r->dtc_confirm_t_s[k])) {
+                fprintf(f, "%s %s (%s) confirmed at %.3f s%s", any ? "," : ";", i->code, i->fault_class, r->dtc_confirm_t_s[k],
+                        (r->dtc_confirmed >> k) & 1u ? "" : ", healed since");
+                any = 1;
+            }
+        }
+        fprintf(f, "%s\n", any ? "" : "; none confirmed");
+    }
     return ferror(f) ? TV_ERR_IO : TV_OK;
 }
 

@@ -11,6 +11,7 @@
 #include "sim_internal.h"
 
 #include "app_tick.h"
+#include "diag_csv.h"
 #include "paper_filter.h"
 #include "sim_hal.h"
 #include "tv_status.h"
@@ -39,6 +40,10 @@ static void sim_result_clear(sim_result_t *res)
     res->stop_learn_closed_rad = res->stop_learn_open_rad = SIM_NAN;
     res->stop_learn_onset_closed_rad = res->stop_learn_onset_open_rad = res->stop_learn_k = res->stop_learn_exponent = SIM_NAN;
     res->stop_contact_speed_max = SIM_NAN;
+    for (e = 0; e < (int)DIAG_DTC_COUNT; ++e) {
+        res->dtc_confirm_t_s[e] = SIM_NAN;
+        res->dtc_pending_t_s[e] = SIM_NAN;
+    }
     sim_tracking_init(&res->tracking);
 }
 
@@ -115,6 +120,72 @@ typedef struct {
     uint32_t nees_ring_n;
 } sim_side_t;
 
+/* Every fault of the list at its full size must be one the plant accepts (a supply sag below
+ * the unit's supply, ...): tried once at the start, then the healthy plant is restored. */
+static int sim_faults_check(const plant_fault_list_t *list, const plant_config_t *pcfg)
+{
+    plant_faults_t f;
+    plant_fault_list_t full;
+    unsigned k;
+    int rc;
+    if (list == NULL || list->n == 0u) {
+        return TV_OK;
+    }
+    if (list->n > PLANT_FAULT_LIST_MAX) {
+        return TV_ERR_RANGE;
+    }
+    full = *list;
+    for (k = 0; k < full.n; ++k) {
+        full.spec[k].t_s = 0.0;
+        full.spec[k].ramp_s = 0.0;
+    }
+    (void)plant_fault_at(&full, 0.0, pcfg->tps_supply_V, &f);
+    rc = sim_hal_set_faults(&f);
+    plant_faults_none(&f);
+    (void)sim_hal_set_faults(&f);
+    return rc == TV_OK ? TV_OK : TV_ERR_CONFIG;
+}
+
+/* Field by field: the faults in force did not change. */
+static int sim_faults_equal(const plant_faults_t *a, const plant_faults_t *b)
+{
+    int ch;
+    for (ch = 0; ch < 2; ++ch) {
+        if (a->tps_offset_V[ch] != b->tps_offset_V[ch] || a->tps_gain_err[ch] != b->tps_gain_err[ch] ||
+            a->tps_stuck[ch] != b->tps_stuck[ch] || a->tps_dropout_prob[ch] != b->tps_dropout_prob[ch]) {
+            return 0;
+        }
+    }
+    return a->friction_factor == b->friction_factor && a->jam_Nm == b->jam_Nm && a->spring_factor == b->spring_factor &&
+           a->resistance_factor == b->resistance_factor && a->short_fraction == b->short_fraction &&
+           a->winding_open == b->winding_open && a->bridge_lost == b->bridge_lost && a->supply_drop_V == b->supply_drop_V &&
+           a->current_offset_A == b->current_offset_A && a->current_gain_err == b->current_gain_err;
+}
+
+/* The faults in force at t_s into the plant (only when they change). */
+static int sim_faults_apply(const plant_fault_list_t *list, const plant_config_t *pcfg, double t_s)
+{
+    static plant_faults_t s_last;
+    static int s_have_last;
+    plant_faults_t f;
+    int rc;
+    if (list == NULL || list->n == 0u) {
+        s_have_last = 0;
+        return TV_OK;
+    }
+    (void)plant_fault_at(list, t_s, pcfg->tps_supply_V, &f);
+    if (t_s > 0.0 && s_have_last && sim_faults_equal(&f, &s_last)) {
+        return TV_OK;
+    }
+    rc = sim_hal_set_faults(&f);
+    if (rc != TV_OK) {
+        return TV_ERR_CONFIG;
+    }
+    s_last = f;
+    s_have_last = 1;
+    return TV_OK;
+}
+
 static int sim_ekf_row_is_used(const ekf_innov_t *in, int ch)
 {
     return in->used[ch] != 0u;
@@ -182,6 +253,10 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
     if (rc != TV_OK) {
         return rc;
     }
+    rc = sim_faults_check(opt->faults, &pcfg);
+    if (rc != TV_OK) {
+        return rc;
+    }
 
     /* the application and the comparison estimators */
     rc = sim_app_config(opt, &acfg);
@@ -224,6 +299,12 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
             return rc;
         }
     }
+    if (opt->events != NULL) {
+        rc = diag_csv_header(opt->events);
+        if (rc != TV_OK) {
+            return rc;
+        }
+    }
 
     for (k = 0; k < n_ticks; ++k) {
         const double t_s = (double)k * SIM_TICK_S;
@@ -249,6 +330,9 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
             }
         } else {
             rc = sim_scenario_update(opt->scenario, app, tau_s);
+        }
+        if (rc == TV_OK) {
+            rc = sim_faults_apply(opt->faults, &pcfg, t_s);
         }
         if (rc != TV_OK) {
             return rc;
@@ -372,6 +456,26 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         }
         row.mode = (int)app->cfg.control.mode;
         row.faults = out.faults;
+        row.dtc_confirmed = out.dtc_confirmed;
+        {
+            /* the diagnostic events of this step (the application's queue, drained every tick) */
+            diag_event_t ev;
+            while (diag_event_pop(&app->diag, &ev)) {
+                double *first = ev.kind == DIAG_EV_CONFIRMED ? &res->dtc_confirm_t_s[ev.dtc]
+                                : ev.kind == DIAG_EV_PENDING ? &res->dtc_pending_t_s[ev.dtc]
+                                                             : NULL;
+                ++res->dtc_events;
+                if (first != NULL && !sim_finite(*first)) {
+                    *first = t_s;
+                }
+                if (opt->events != NULL) {
+                    rc = diag_csv_event(opt->events, &ev);
+                    if (rc != TV_OK) {
+                        return rc;
+                    }
+                }
+            }
+        }
         row.ekf_status = out.ekf_status;
         row.missing_samples = out.missing_samples;
 
@@ -504,6 +608,16 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->nis_hi = sim_chi2_quantile(SIM_BAND_P_HI, side->nis_dof_sum) / n;
     }
     res->faults = app->faults;
+    res->dtc_confirmed = 0u;
+    {
+        int d;
+        for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+            if (diag_confirmed(&app->diag, (diag_dtc_t)d)) {
+                res->dtc_confirmed |= 1u << d;
+            }
+        }
+    }
+    res->dtc_events_lost = app->diag.events_lost;
     {
         tv_real_t dR;
         tv_real_t sR;
@@ -546,6 +660,9 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
     res->paper_printed_resets = side->printed.n_resets;
     res->paper_eq12_resets = side->eq12.n_resets;
     res->paper_eq12x_resets = side->eq12x.n_resets;
+    if (opt->events != NULL && fflush(opt->events) != 0) {
+        return TV_ERR_IO;
+    }
     if (opt->csv != NULL && fflush(opt->csv) != 0) {
         return TV_ERR_IO;
     }

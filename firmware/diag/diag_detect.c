@@ -1,0 +1,172 @@
+/**
+ * @file diag_detect.c
+ * @brief The first fault detectors: track vote, jam, open winding (see diag_detect.h).
+ */
+#include "diag_detect.h"
+
+#include <stddef.h>
+#include <string.h>
+
+#include "tv_status.h"
+
+void diag_detect_config_default(diag_detect_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return;
+    }
+    cfg->tps_disagree_rad = TV_R(0.005);
+    cfg->tps_vote_frac = TV_R(0.25);
+    cfg->jam_error_rad = TV_R(0.035);
+    cfg->jam_u_min_V = TV_R(3.0);
+    cfg->jam_break_factor = TV_R(2.0);
+    cfg->jam_still_rad = TV_R(0.002);
+    cfg->open_u_min_V = TV_R(3.0);
+    cfg->open_i_max_A = TV_R(0.15);
+    cfg->r_high_frac = TV_R(1.35);
+    cfg->r_low_frac = TV_R(0.65);
+    cfg->r_sigma_max_frac = TV_R(0.05);
+    cfg->r_excite_A = TV_R(0.4);
+}
+
+int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
+{
+    if (dd == NULL || cfg == NULL) {
+        return TV_ERR_NULL;
+    }
+    {
+        const tv_real_t all[] = {cfg->tps_disagree_rad, cfg->tps_vote_frac, cfg->jam_error_rad, cfg->jam_u_min_V,
+                                 cfg->jam_break_factor, cfg->jam_still_rad, cfg->open_u_min_V,  cfg->open_i_max_A,
+                                 cfg->r_high_frac,      cfg->r_low_frac,    cfg->r_sigma_max_frac,
+                                 cfg->r_excite_A};
+        size_t k;
+        for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
+            if (!TV_IS_FINITE(all[k])) {
+                return TV_ERR_NONFINITE;
+            }
+            if (!(all[k] > TV_R(0.0))) {
+                return TV_ERR_CONFIG;
+            }
+        }
+    }
+    if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0))) {
+        return TV_ERR_CONFIG;
+    }
+    memset(dd, 0, sizeof *dd);
+    dd->cfg = *cfg;
+    return TV_OK;
+}
+
+diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv_real_t phi1_rad, tv_real_t phi2_rad,
+                             tv_real_t phi_pred_rad, const diag_snapshot_t *snap)
+{
+    tv_real_t dis;
+    diag_result_t r1 = DIAG_NOT_RUN;
+    diag_result_t r2 = DIAG_NOT_RUN;
+    diag_result_t rc = DIAG_NOT_RUN;
+    diag_tps_use_t use = DIAG_TPS_BOTH;
+    if (dd == NULL || d == NULL || snap == NULL || !TV_IS_FINITE(phi1_rad) || !TV_IS_FINITE(phi2_rad) ||
+        !TV_IS_FINITE(phi_pred_rad)) {
+        return DIAG_TPS_BOTH;
+    }
+    if (!both_in_range) {
+        return DIAG_TPS_BOTH;
+    }
+    dis = TV_FABS(phi1_rad - phi2_rad);
+    if (dis <= dd->cfg.tps_disagree_rad) {
+        r1 = r2 = rc = DIAG_PASS;
+    } else {
+        const tv_real_t e1 = TV_FABS(phi1_rad - phi_pred_rad);
+        const tv_real_t e2 = TV_FABS(phi2_rad - phi_pred_rad);
+        const tv_real_t tol = dd->cfg.tps_vote_frac * dis;
+        if (e2 <= tol && e2 < e1) {
+            r1 = DIAG_FAIL; /* track 1 named */
+            r2 = rc = DIAG_PASS;
+            dd->tps_named = 1u;
+        } else if (e1 <= tol && e1 < e2) {
+            r2 = DIAG_FAIL;
+            r1 = rc = DIAG_PASS;
+            dd->tps_named = 2u;
+        } else {
+            rc = DIAG_FAIL;
+        }
+    }
+    (void)diag_report(d, DIAG_DTC_P0121, r1, snap, dis);
+    (void)diag_report(d, DIAG_DTC_P0221, r2, snap, dis);
+    (void)diag_report(d, DIAG_DTC_P2135, rc, snap, dis);
+    /* a named track stays out while its code is pending or confirmed */
+    if (dd->tps_named == 1u && !diag_pending(d, DIAG_DTC_P0121) && !diag_confirmed(d, DIAG_DTC_P0121)) {
+        dd->tps_named = 0u;
+    }
+    if (dd->tps_named == 2u && !diag_pending(d, DIAG_DTC_P0221) && !diag_confirmed(d, DIAG_DTC_P0221)) {
+        dd->tps_named = 0u;
+    }
+    if (dd->tps_named == 1u) {
+        use = DIAG_TPS_ONLY2;
+    } else if (dd->tps_named == 2u) {
+        use = DIAG_TPS_ONLY1;
+    } else if (rc == DIAG_FAIL) {
+        use = DIAG_TPS_NONE;
+    }
+    return use;
+}
+
+void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_rad, tv_real_t phi_est_rad, tv_real_t u_V,
+                    tv_real_t u_break_V, const diag_snapshot_t *snap)
+{
+    tv_real_t oldest;
+    tv_real_t e;
+    diag_dtc_t code;
+    if (dd == NULL || d == NULL || snap == NULL || !TV_IS_FINITE(phi_est_rad)) {
+        return;
+    }
+    /* the motion history: the oldest of the last DIAG_JAM_WINDOW angles */
+    oldest = dd->hist_n >= DIAG_JAM_WINDOW ? dd->phi_hist[dd->hist_i] : phi_est_rad;
+    dd->phi_hist[dd->hist_i] = phi_est_rad;
+    dd->hist_i = (uint8_t)((dd->hist_i + 1u) % DIAG_JAM_WINDOW);
+    if (dd->hist_n < DIAG_JAM_WINDOW) {
+        ++dd->hist_n;
+        return;
+    }
+    if (!active || !TV_IS_FINITE(target_rad) || !TV_IS_FINITE(u_V) || !TV_IS_FINITE(u_break_V)) {
+        return;
+    }
+    e = target_rad - phi_est_rad;
+    if (TV_FABS(e) < dd->cfg.jam_error_rad) {
+        (void)diag_report(d, DIAG_DTC_P2111, DIAG_PASS, snap, TV_FABS(e));
+        (void)diag_report(d, DIAG_DTC_P2112, DIAG_PASS, snap, TV_FABS(e));
+        return;
+    }
+    if (!(u_V * e > TV_R(0.0)) || TV_FABS(u_V) < dd->cfg.jam_u_min_V ||
+        TV_FABS(u_V) < dd->cfg.jam_break_factor * TV_FABS(u_break_V)) {
+        return; /* not pushing toward the target: nothing to judge */
+    }
+    code = e > TV_R(0.0) ? DIAG_DTC_P2112 : DIAG_DTC_P2111;
+    (void)diag_report(d, code, TV_FABS(phi_est_rad - oldest) < dd->cfg.jam_still_rad ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(e));
+}
+
+void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, tv_real_t current_A,
+                     const diag_snapshot_t *snap)
+{
+    if (dd == NULL || d == NULL || snap == NULL || !active || !TV_IS_FINITE(u_V) || !TV_IS_FINITE(emf_V) ||
+        !TV_IS_FINITE(current_A)) {
+        return;
+    }
+    if (TV_FABS(u_V) < dd->cfg.open_u_min_V || TV_FABS(u_V - emf_V) < dd->cfg.open_u_min_V) {
+        return;
+    }
+    (void)diag_report(d, DIAG_DTC_P2100, TV_FABS(current_A) < dd->cfg.open_i_max_A ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(current_A));
+}
+
+void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t current_A, tv_real_t r_est_ohm,
+                           tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, const diag_snapshot_t *snap)
+{
+    tv_real_t ratio;
+    if (dd == NULL || d == NULL || snap == NULL || !active || !(TV_FABS(current_A) >= dd->cfg.r_excite_A) ||
+        !TV_IS_FINITE(r_est_ohm) || !TV_IS_FINITE(r_sigma_ohm) ||
+        !(r_nom_ohm > TV_R(0.0)) || !(r_sigma_ohm > TV_R(0.0)) || r_sigma_ohm > dd->cfg.r_sigma_max_frac * r_nom_ohm) {
+        return;
+    }
+    ratio = r_est_ohm / r_nom_ohm;
+    (void)diag_report(d, DIAG_DTC_P2101, ratio > dd->cfg.r_high_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
+    (void)diag_report(d, DIAG_DTC_P1A01, ratio < dd->cfg.r_low_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
+}

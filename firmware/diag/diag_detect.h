@@ -1,0 +1,155 @@
+/**
+ * @file diag_detect.h
+ * @brief The first fault detectors on the 1 kHz path, each reporting to its codes (diag.h):
+ *
+ *   TRACK VOTE (P0121, P0221, P2135), the estimator as third voter. While both position tracks
+ *     are in range, a disagreement |phi1 - phi2| > tps_disagree_rad is resolved against the
+ *     estimator's prediction phi_pred of this sample (the previous estimate moved on by one
+ *     period, computed before this sample corrects the estimator): a track within
+ *     tps_vote_frac * |phi1 - phi2| of the prediction, and closer than the other, is kept and
+ *     the other is named (P0121 for track 1, P0221 for track 2: one failed check); when neither
+ *     is, P2135 fails and no angle is used. Agreeing tracks pass all three. A named track stays
+ *     out of the angle (the kept track alone) for as long as its code is pending or confirmed, so
+ *     the estimator, and with it the next vote, is never pulled toward the faulty track. A track
+ *     that drifts slowly is averaged into the estimate before it crosses the threshold: the vote
+ *     can then not tell the tracks apart and reports P2135 (limitation, README).
+ *   JAM (P2111 stuck open, P2112 stuck closed), closed loop only: the target is at least
+ *     jam_error_rad from the estimated angle, the applied voltage pushes toward it with at least
+ *     jam_u_min_V and at least jam_break_factor times the model's breakaway voltage u_break (the
+ *     stall voltage whose torque equals preload + spring + static friction: below it a healthy
+ *     plate may rightly stay stuck), and the estimated angle moved less than jam_still_rad over the last
+ *     DIAG_JAM_WINDOW samples: a failed check (P2112 when the target is above, i.e. commanded to
+ *     open; P2111 below). Pushing and moving, or the target within jam_error_rad, passes.
+ *   OPEN WINDING (P2100): over the period that just ended the bridge was enabled and applied
+ *     |u| >= open_u_min_V with |u - n Ke w| >= open_u_min_V as well (w the estimated velocity at
+ *     the start of the period: the back-EMF leaves that much to drive a current; the first
+ *     condition keeps a wrong velocity estimate, e.g. against a stop the model does not know yet,
+ *     from making a small voltage look large), and the measured current (plausible) is below
+ *     open_i_max_A: a failed check; a current at or above it passes.
+ *   WINDING RESISTANCE (P2101 above, P1A01 below its range), an adapted parameter against its
+ *     healthy range: the estimator's R + dR (its winding-resistance error state), while the bridge
+ *     drives a measured current of at least r_excite_A (the state is updated only under current,
+ *     and it can be left wrong by an excursion while the bridge is off: measured, class b unit
+ *     1013 in limp_home, dR jumping 0.58 ohm with the bridge off and no current, corrected within
+ *     20 ms of drive) and its sigma is below r_sigma_max_frac * R: above r_high_frac * R fails
+ *     P2101, below r_low_frac * R fails P1A01, in between passes both. R is the model's nominal
+ *     resistance.
+ *
+ * Pure C99, no heap, no globals; fixed cost per call.
+ */
+#ifndef DIAG_DETECT_H
+#define DIAG_DETECT_H
+
+#include <stdint.h>
+
+#include "diag.h"
+#include "tv_real.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Samples over which the jam check measures the plate's motion (8 ms at 1 kHz). */
+#define DIAG_JAM_WINDOW 8u
+
+/** Detector thresholds (diag_detect_config_default()). */
+typedef struct {
+    tv_real_t tps_disagree_rad; /**< track disagreement that calls the vote [rad], > 0; default 0.005
+                                     (11 counts; healthy tracks share the plate's noise and differ by
+                                     their quantisation, <= 1 count = 4.5e-4 rad) */
+    tv_real_t tps_vote_frac;    /**< a kept track lies within this fraction of the disagreement from
+                                     the prediction [-], (0, 0.5]; default 0.25 */
+    tv_real_t jam_error_rad;    /**< target error from which a plate must move [rad], > 0; default 0.035 */
+    tv_real_t jam_u_min_V;      /**< voltage toward the target from which the plate must move [V], > 0; default 3 */
+    tv_real_t jam_break_factor; /**< ... and at least this times the model's breakaway voltage [-], > 0; default 2
+                                     (the population's friction, springs, R and Kt spread up to about 1.5x) */
+    tv_real_t jam_still_rad;    /**< motion over DIAG_JAM_WINDOW samples below which the plate is still [rad], > 0; default 0.002 */
+    tv_real_t open_u_min_V;     /**< |u| and |u - n Ke w| from which a current must flow [V], > 0; default 3 */
+    tv_real_t open_i_max_A;     /**< |current| below which none flows [A], > 0; default 0.15 */
+    tv_real_t r_high_frac;      /**< R + dR above this times R fails P2101 [-], > 1; default 1.35 (units
+                                     spread +-20 %, and a winding warms up by some 10 %) */
+    tv_real_t r_low_frac;       /**< R + dR below this times R fails P1A01 [-], (0, 1); default 0.65 */
+    tv_real_t r_sigma_max_frac; /**< the check runs while sigma(dR) <= this times R [-], > 0; default 0.05 */
+    tv_real_t r_excite_A;       /**< ... and the measured |current| is at least this [A], > 0; default 0.4 */
+} diag_detect_config_t;
+
+/** Detector state. Allocate statically; diag_detect_init() before use. */
+typedef struct {
+    diag_detect_config_t cfg;
+    tv_real_t phi_hist[DIAG_JAM_WINDOW]; /**< last estimated angles (ring) [rad] */
+    uint8_t hist_n;        /**< valid entries of phi_hist */
+    uint8_t hist_i;        /**< next slot of phi_hist */
+    uint8_t tps_named;     /**< 0: no track named; 1 or 2: the track the vote named (kept out) */
+} diag_detect_t;
+
+/** Defaults (see diag_detect_config_t). Does nothing when cfg is NULL. */
+void diag_detect_config_default(diag_detect_config_t *cfg);
+
+/**
+ * Validate and start (no history, no track named).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE; TV_ERR_CONFIG (a threshold out of its range).
+ */
+int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg);
+
+/** What diag_tps_vote() decided for this sample's angle. */
+typedef enum {
+    DIAG_TPS_BOTH = 0,  /**< both tracks (the caller's own rule) */
+    DIAG_TPS_ONLY1 = 1, /**< track 1 alone (track 2 named) */
+    DIAG_TPS_ONLY2 = 2, /**< track 2 alone (track 1 named) */
+    DIAG_TPS_NONE = 3   /**< no angle (P2135: the tracks disagree and neither agrees with the estimator) */
+} diag_tps_use_t;
+
+/**
+ * The track vote (see the file comment); reports P0121, P0221, P2135.
+ * @param both_in_range  1 when both tracks are in range (and neither range fault latched): the
+ *                       vote runs; 0: the three codes are not run and DIAG_TPS_BOTH is returned
+ * @param phi1_rad, phi2_rad  the two tracks' angles [rad]
+ * @param phi_pred_rad   the estimator's prediction of this sample's angle [rad]
+ * @param snap           the step's snapshot (value in the freeze frame: |phi1 - phi2| [rad])
+ * @return the angle to use (diag_tps_use_t); DIAG_TPS_BOTH when an argument is NULL or not finite.
+ */
+diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv_real_t phi1_rad, tv_real_t phi2_rad,
+                             tv_real_t phi_pred_rad, const diag_snapshot_t *snap);
+
+/**
+ * The jam check (see the file comment); reports P2111, P2112. Every call adds phi_est_rad to
+ * the motion history; the check runs from the DIAG_JAM_WINDOW-th call on.
+ * @param active       1 in closed loop with the bridge driving; 0: not run
+ * @param target_rad   the target in force [rad]
+ * @param phi_est_rad  the estimated angle [rad]
+ * @param u_V          the voltage applied toward the target [V]
+ * @param u_break_V    the model's breakaway voltage at this angle [V] (R (M0 + c |phi| + Ms) / (n Kt))
+ * @param snap         the step's snapshot (value in the freeze frame: |target - phi| [rad])
+ */
+void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_rad, tv_real_t phi_est_rad, tv_real_t u_V,
+                    tv_real_t u_break_V, const diag_snapshot_t *snap);
+
+/**
+ * The open-winding check (see the file comment); reports P2100.
+ * @param active     1 when the bridge drove the period that just ended and the current sample is plausible
+ * @param u_V        the voltage applied over that period [V]
+ * @param emf_V      the back-EMF n Ke w at its start [V]
+ * @param current_A  the measured current [A]
+ * @param snap       the step's snapshot (value in the freeze frame: |current| [A])
+ */
+void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, tv_real_t current_A,
+                     const diag_snapshot_t *snap);
+
+/**
+ * The winding-resistance check (see the file comment); reports P2101, P1A01.
+ * @param active       1 when the bridge drove the period that ended and the one starting (the
+ *                     model is the one in service: not while the stops are being learned)
+ * @param current_A    the measured current [A]
+ * @param r_est_ohm    the estimator's R + dR [ohm]
+ * @param r_sigma_ohm  its standard deviation [ohm] (0: the estimator has no such state: not run)
+ * @param r_nom_ohm    the model's R [ohm], > 0
+ * @param snap         the step's snapshot (value in the freeze frame: (R + dR) / R [-])
+ */
+void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t current_A, tv_real_t r_est_ohm,
+                           tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, const diag_snapshot_t *snap);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DIAG_DETECT_H */
