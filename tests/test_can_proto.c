@@ -458,10 +458,11 @@ static void test_bad_frames_rejected_and_counted(void)
     /* out of range, each with a valid CRC and an in-sequence counter (last control 5) */
     before = app.cfg.control;
     memset(payload, 0, sizeof payload);
-    payload[1] = 0x50u; /* mode 5 */
+    payload[1] = 0x50u; /* mode 5: EXTERNAL is replay only */
     payload[4] = 100u;
     f = craft(CAN_PROTO_ID_CMD_CONTROL, payload, 6u);
     TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 6000u), CAN_PROTO_RX_RANGE);
+
     payload[1] = 0x40u;
     payload[2] = (uint8_t)(20001u & 0xFFu); /* target 2.0001 rad */
     payload[3] = (uint8_t)(20001u >> 8);
@@ -479,6 +480,10 @@ static void test_bad_frames_rejected_and_counted(void)
     TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 6000u), CAN_PROTO_RX_RANGE);
     payload[4] = 201u; /* duty limit 1.005 */
     f = craft(CAN_PROTO_ID_CMD_CONTROL, payload, 10u);
+    TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 6000u), CAN_PROTO_RX_RANGE);
+    payload[4] = 100u;
+    payload[1] = 0x80u; /* mode 8: no such mode */
+    f = craft(CAN_PROTO_ID_CMD_CONTROL, payload, 11u);
     TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 6000u), CAN_PROTO_RX_RANGE);
     memset(payload, 0, sizeof payload);
     payload[2] = 241u; /* amplitude 24.1 V */
@@ -501,14 +506,14 @@ static void test_bad_frames_rejected_and_counted(void)
     payload[7] = 0u; /* chirp period 0 */
     f = craft(CAN_PROTO_ID_CMD_EXCITATION, payload, 13u);
     TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 6000u), CAN_PROTO_RX_RANGE);
-    TV_CHECK_EQ_INT(n.stats.range, 9);
+    TV_CHECK_EQ_INT(n.stats.range, 10);
     TV_CHECK(memcmp(&before, &app.cfg.control, sizeof before) == 0);
     /* the range failures consumed their counters: the next in-sequence frames are accepted */
     payload[7] = 1u;
     f = craft(CAN_PROTO_ID_CMD_EXCITATION, payload, 14u);
     TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 6000u), CAN_PROTO_RX_ACCEPTED);
     TV_CHECK_NEAR(app.cfg.control.chirp_period_s, 0.1, 1e-6);
-    f = control_frame(APP_MODE_OFF, 0.0f, 0.5f, 0u, 11u);
+    f = control_frame(APP_MODE_OFF, 0.0f, 0.5f, 0u, 12u);
     TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 7000u), CAN_PROTO_RX_ACCEPTED);
     TV_CHECK_EQ_INT(app.cfg.control.mode, APP_MODE_OFF);
     TV_CHECK_EQ_INT(n.stats.accepted, 6);
@@ -660,6 +665,35 @@ static void test_unchanged_command_keeps_integrator(void)
     TV_CHECK_NEAR(app.integ_V, 0.0, 0.0);
 }
 
+/* The start-up stop learning and the identification excitation are started over CAN (issue 11:
+ * the same routine and signal on every platform): the command's mode 6 starts the routine
+ * (sl_running()), mode 7 runs APP_MODE_IDENT; the telemetry reports the mode in force. */
+static void test_stop_learning_and_ident_started_over_can(void)
+{
+    static app_t app;
+    can_proto_node_t n;
+    hal_can_frame_t f;
+    node_ok(&n, &app, 100u);
+    f = control_frame(APP_MODE_STOP_LEARN, 0.0f, 0.9f, 0u, 0u);
+    TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 0u), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_EQ_INT(app.cfg.control.mode, APP_MODE_STOP_LEARN);
+    TV_CHECK(sl_running(app_stop_learn(&app)));
+    f = control_frame(APP_MODE_IDENT, 0.0f, 0.9f, 0u, 1u);
+    TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 20000u), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_EQ_INT(app.cfg.control.mode, APP_MODE_IDENT);
+    {
+        can_proto_control_t c;
+        memset(&c, 0, sizeof c);
+        c.mode = APP_MODE_IDENT;
+        c.duty_limit = 0.9f;
+        TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_OK);
+        c.mode = APP_MODE_STOP_LEARN;
+        TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_OK);
+        c.mode = (app_mode_t)8;
+        TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_RANGE);
+    }
+}
+
 /* Bad node configurations are refused without writing the node. */
 static void test_node_config_validated(void)
 {
@@ -786,6 +820,7 @@ int main(void)
     TV_TEST_RUN(test_command_timeout_is_a_latched_fault);
     TV_TEST_RUN(test_fault_clear_acts_on_edge);
     TV_TEST_RUN(test_unchanged_command_keeps_integrator);
+    TV_TEST_RUN(test_stop_learning_and_ident_started_over_can);
     TV_TEST_RUN(test_node_config_validated);
     TV_TEST_RUN(test_telemetry_schedule);
     TV_TEST_RUN(test_ekf_stats_window_mean);

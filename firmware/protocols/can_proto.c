@@ -16,7 +16,7 @@
 static const can_proto_signal_t s_sig_control[] = {
     SIG_CRC,
     SIG_COUNTER,
-    {"Mode", 12u, 4u, 0u, 1.0f, 0.0f, 0.0f, 4.0f, ""},
+    {"Mode", 12u, 4u, 0u, 1.0f, 0.0f, 0.0f, 7.0f, ""},
     {"TargetAngle", 16u, 16u, 1u, 0.0001f, 0.0f, -0.5f, 2.0f, "rad"},
     {"DutyLimit", 32u, 8u, 0u, 0.005f, 0.0f, 0.005f, 1.0f, ""},
     {"FaultClear", 40u, 1u, 0u, 1.0f, 0.0f, 0.0f, 1.0f, ""},
@@ -388,6 +388,10 @@ int can_proto_decode_control(const hal_can_frame_t *frame, can_proto_control_t *
         return rc;
     }
     cmd->mode = (app_mode_t)(int)phys[2];
+    if (cmd->mode == APP_MODE_EXTERNAL) {
+        /* replay only: another controller's duty comes from a log, never over CAN */
+        return CAN_PROTO_RX_RANGE;
+    }
     cmd->target_rad = phys[3];
     cmd->duty_limit = phys[4];
     cmd->fault_clear = phys[5] != 0.0f ? 1u : 0u;

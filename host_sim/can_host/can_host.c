@@ -20,7 +20,7 @@ int can_host_encode_control(const can_proto_control_t *cmd, uint8_t counter, hal
     phys[3] = cmd->target_rad;
     phys[4] = cmd->duty_limit;
     phys[5] = cmd->fault_clear != 0u ? 1.0f : 0.0f;
-    if ((unsigned)cmd->mode > (unsigned)APP_MODE_POSITION) {
+    if ((unsigned)cmd->mode > (unsigned)APP_MODE_IDENT || cmd->mode == APP_MODE_EXTERNAL) {
         return TV_ERR_RANGE;
     }
     return can_proto_pack(can_proto_find_msg(CAN_PROTO_ID_CMD_CONTROL), phys, counter, 0, frame);

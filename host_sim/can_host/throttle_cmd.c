@@ -18,10 +18,11 @@
  *   clear                 FaultClear = 1 in the next 3 control frames
  *   silence / resume      stop / restart sending (silence longer than can.cmd_timeout_ms is a fault)
  *   bad KIND              inject one bad frame: crc (a flipped data bit), dlc (DLC 7), repeat (the
- *                         last control frame again), stale (counter one behind), range (mode 7 with a
+ *                         last control frame again), stale (counter one behind), range (mode 15 with a
  *                         valid CRC), unknown (id 0x1FF)
  *   end                   stop
- * Modes: off, sine, steps, chirp, position. Exit status 0, 1 on a CAN error, 2 on bad arguments.
+ * Modes: off, sine, steps, chirp, position, stop_learn (the start-up stop learning), ident (the
+ * identification excitation). Exit status 0, 1 on a CAN error, 2 on bad arguments.
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -71,10 +72,11 @@ static void on_signal(int sig)
 
 static int parse_mode(const char *s, app_mode_t *m)
 {
-    static const char *const names[] = {"off", "sine", "steps", "chirp", "position"};
+    /* app_mode_t by value; "external" (5) is replay only and not a command */
+    static const char *const names[] = {"off", "sine", "steps", "chirp", "position", "", "stop_learn", "ident"};
     int i;
-    for (i = 0; i < 5; ++i) {
-        if (strcmp(s, names[i]) == 0) {
+    for (i = 0; i < (int)(sizeof names / sizeof names[0]); ++i) {
+        if (names[i][0] != '\0' && strcmp(s, names[i]) == 0) {
             *m = (app_mode_t)i;
             return 0;
         }
@@ -187,7 +189,7 @@ static int inject(lx_can_t *can, cmd_state_t *st, const char *kind)
     } else if (strcmp(kind, "stale") == 0) {
         (void)can_host_encode_control(&c, (uint8_t)((st->ctr_ctl + 14u) & 15u), &f);
     } else if (strcmp(kind, "range") == 0) {
-        f.data[1] = (uint8_t)((f.data[1] & 0x0Fu) | 0x70u);
+        f.data[1] = (uint8_t)((f.data[1] & 0x0Fu) | 0xF0u);
         f.data[0] = can_proto_frame_crc(&f);
         st->ctr_ctl = (uint8_t)((st->ctr_ctl + 1u) & 15u); /* a range failure consumes the counter */
     } else if (strcmp(kind, "unknown") == 0) {
@@ -291,7 +293,7 @@ static int load_script(const char *path, int *n)
 
 static void usage(void)
 {
-    fprintf(stderr, "usage: throttle_cmd -i IFACE [--mode off|sine|steps|chirp|position] [--target RAD]\n"
+    fprintf(stderr, "usage: throttle_cmd -i IFACE [--mode off|sine|steps|chirp|position|stop_learn|ident] [--target RAD]\n"
                     "         [--duty-limit X] [--amplitude V] [--freq HZ] [--f1 HZ] [--period S] [--clear]\n"
                     "         [--rate-ms N] [--duration-s S]\n"
                     "       throttle_cmd -i IFACE --script FILE [--rate-ms N]\n");
