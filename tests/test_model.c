@@ -247,6 +247,38 @@ static void test_hunt_crossley_contact(void)
  * winding-resistance error dR) against central differences in each input, with a = 0
  * reproducing tvm_step() bit for bit and tvm_step_dist() agreeing with the torque column; and
  * the explicit resistance error against the exact armature of a model whose R is R + dR. */
+/* Worst relative difference over 200 random states and inputs between tvm_step_aug() of the
+ * default model with the augmented inputs a and tvm_step() of a model with the parameters p1
+ * (the same change written into the parameters). */
+static double aug_vs_model(const double a[TVM_NA], const tvm_params_t *p1)
+{
+    tvm_params_t p0;
+    tvm_t m0;
+    tvm_t m1;
+    double worst = 0.0;
+    int j;
+    tvm_params_default(&p0);
+    TV_CHECK_EQ_INT(tvm_init(&m0, &p0), TV_OK);
+    TV_CHECK_EQ_INT(tvm_init(&m1, p1), TV_OK);
+    for (j = 0; j < 200; ++j) {
+        double x[3];
+        double xa[3];
+        double xe[3];
+        int r;
+        const double u = uniform(-12.0, 12.0);
+        x[0] = uniform(-2.0, 2.0);
+        x[1] = j % 5 == 0 ? 0.0 : uniform(-20.0, 20.0);
+        x[2] = uniform(-0.05, 1.2);
+        tvm_step_aug(&m0, x, a, u, xa, NULL, NULL, TVM_G_ALL);
+        tvm_step(&m1, x, u, xe, NULL);
+        for (r = 0; r < 3; ++r) {
+            const double e = fabs(xa[r] - xe[r]) / (1.0 + fabs(xe[r]));
+            worst = e > worst ? e : worst;
+        }
+    }
+    return worst;
+}
+
 static void test_disturbance_column(void)
 {
     const tvm_t m = make_model();
@@ -331,68 +363,22 @@ static void test_disturbance_column(void)
         TV_CHECK_NEAR(xa[0], xe[0], 0.01 * xe[0]);
     }
     /* the friction error against a model whose Coulomb and static friction are both (1 + f)
-     * times the nominal: the same map up to rounding, sliding, sticking and breaking away */
+     * times the nominal (the same map up to rounding, sliding, sticking and breaking away), and
+     * the preload error against a model whose preload is (1 + m) times the nominal */
     {
+        const double a_f[TVM_NA] = {0.0, 0.0, 0.5, 0.0};
+        const double a_m[TVM_NA] = {0.0, 0.0, 0.0, -0.3};
         tvm_params_t p;
-        tvm_t m0;
-        tvm_t m1;
-        const double f = 0.5;
-        const double a[TVM_NA] = {0.0, 0.0, f, 0.0};
-        double worst = 0.0;
-        int j;
+        double worst;
         tvm_params_default(&p);
-        TV_CHECK_EQ_INT(tvm_init(&m0, &p), TV_OK);
-        p.Mc_Nm *= 1.0 + f;
-        p.Ms_Nm *= 1.0 + f;
-        TV_CHECK_EQ_INT(tvm_init(&m1, &p), TV_OK);
-        for (j = 0; j < 200; ++j) {
-            double x[3];
-            double xa[3];
-            double xe[3];
-            int r;
-            const double u = uniform(-12.0, 12.0);
-            x[0] = uniform(-2.0, 2.0);
-            x[1] = j % 5 == 0 ? 0.0 : uniform(-20.0, 20.0);
-            x[2] = uniform(0.0, 1.2);
-            tvm_step_aug(&m0, x, a, u, xa, NULL, NULL, TVM_G_ALL);
-            tvm_step(&m1, x, u, xe, NULL);
-            for (r = 0; r < 3; ++r) {
-                const double e = fabs(xa[r] - xe[r]) / (1.0 + fabs(xe[r]));
-                worst = e > worst ? e : worst;
-            }
-        }
+        p.Mc_Nm *= 1.5;
+        p.Ms_Nm *= 1.5;
+        worst = aug_vs_model(a_f, &p);
         printf("  friction error f = 0.5 vs a model with 1.5 x Mc, Ms: worst relative difference %.2g\n", worst);
         TV_CHECK(worst <= 1e-12);
-    }
-    /* the preload error against a model whose preload is (1 + m) times the nominal */
-    {
-        tvm_params_t p;
-        tvm_t m0;
-        tvm_t m1;
-        const double mp = -0.3;
-        const double a[TVM_NA] = {0.0, 0.0, 0.0, mp};
-        double worst = 0.0;
-        int j;
         tvm_params_default(&p);
-        TV_CHECK_EQ_INT(tvm_init(&m0, &p), TV_OK);
-        p.M0_Nm *= 1.0 + mp;
-        TV_CHECK_EQ_INT(tvm_init(&m1, &p), TV_OK);
-        for (j = 0; j < 200; ++j) {
-            double x[3];
-            double xa[3];
-            double xe[3];
-            int r;
-            const double u = uniform(-12.0, 12.0);
-            x[0] = uniform(-2.0, 2.0);
-            x[1] = j % 5 == 0 ? 0.0 : uniform(-20.0, 20.0);
-            x[2] = uniform(-0.05, 1.2);
-            tvm_step_aug(&m0, x, a, u, xa, NULL, NULL, TVM_G_ALL);
-            tvm_step(&m1, x, u, xe, NULL);
-            for (r = 0; r < 3; ++r) {
-                const double e = fabs(xa[r] - xe[r]) / (1.0 + fabs(xe[r]));
-                worst = e > worst ? e : worst;
-            }
-        }
+        p.M0_Nm *= 0.7;
+        worst = aug_vs_model(a_m, &p);
         printf("  preload error m = -0.3 vs a model with 0.7 x M0: worst relative difference %.2g\n", worst);
         TV_CHECK(worst <= 1e-12);
     }
