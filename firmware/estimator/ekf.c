@@ -766,10 +766,16 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     memcpy(x, ekf->x, sizeof x);
     memcpy(P, ekf->P, sizeof(mat3_t));
     aug_get(ekf, &ap);
-    /* dR is observed through the voltage dR i: frozen while the current is small; the friction
-     * error through the sliding plate: frozen while it (nearly) sticks, and in the contact band,
-     * where the innovations are the contact law's errors, not friction's */
-    frozen = (TV_FABS(x[TVM_I]) < ekf->cfg.dr_excite_A ? 1u << TVM_A_DR : 0u) |
+    /* dR is observed through the voltage dR i: frozen while the current is small, predicted or
+     * measured (a prediction the measurement contradicts, e.g. a current the held input drives
+     * through an open bridge when the plate reverses at a stop, is the input's error, not the
+     * winding's); the friction error through the sliding plate: frozen while it (nearly)
+     * sticks, and in the contact band, where the innovations are the contact law's errors, not
+     * friction's */
+    frozen = (TV_FABS(x[TVM_I]) < ekf->cfg.dr_excite_A ||
+                      (use[EKF_CH_CURRENT] && TV_FABS(meas->z[EKF_CH_CURRENT]) < ekf->cfg.dr_excite_A)
+                  ? 1u << TVM_A_DR
+                  : 0u) |
              (TV_FABS(x[TVM_W]) < ekf->cfg.f_excite_rad_s || ekf->in_contact ? (1u << TVM_A_FRIC) | (1u << TVM_A_PRELOAD) : 0u);
     for (ch = 0; ch < EKF_NCH; ++ch) {
         if (use[ch]) {

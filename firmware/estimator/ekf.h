@@ -154,9 +154,11 @@ typedef struct {
     tv_real_t r_sigma0_ohm;             /**< initial standard deviation of dR [ohm], >= 0 */
     tv_real_t dr_abs_max_ohm;           /**< bound on |dR| [ohm], > 0 */
     /**
-     * dR is updated only while the current estimate's magnitude is at least this [A], >= 0:
-     * below it the update is a Schmidt (consider) update, with dR's gain 0 and its covariance
-     * carried exactly, so measurement noise at rest does not walk the estimate (frozen).
+     * dR is updated only while the predicted current's magnitude and, when the current channel is
+     * used, the measured current's are at least this [A], >= 0: below it the update is a Schmidt
+     * (consider) update, with dR's gain 0 and its covariance carried exactly, so measurement
+     * noise at rest does not walk the estimate (frozen), nor does a predicted current the plant
+     * does not carry (the open bridge at a stop's impact).
      */
     tv_real_t dr_excite_A;
     /**

@@ -136,6 +136,7 @@ typedef struct {
     double target_rad;          /**< closed-loop target (NaN in open-loop modes) */
     double z[EKF_NCH];          /**< calibrated measurements (current, differentiated velocity, angle) */
     double x[TVM_NX];           /**< application filter's estimate */
+    double r_est_ohm;           /**< its winding resistance R + dR (app_output_t::r_est_ohm) [ohm] */
     double sigma[TVM_NX];       /**< its standard deviations */
     double innov[EKF_NCH];      /**< its innovations (0 on unused channels) */
     double innov_sigma[EKF_NCH];/**< sqrt of the innovation variances (0 on unused channels) */

@@ -430,6 +430,7 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         row.u_applied_V = (double)app->u_applied_V;
         row.duty = (double)out.duty;
         row.bridge_enable = out.bridge_enable;
+        row.r_est_ohm = (double)out.r_est_ohm;
         row.target_rad = app->cfg.control.mode == APP_MODE_POSITION ? (double)app->cfg.control.target_rad : SIM_NAN;
         for (a = 0; a < EKF_NCH; ++a) {
             row.z[a] = (double)out.z[a];
