@@ -6,9 +6,11 @@
  *
  *   test_lx_config <path of firmware/linux_rt/throttle_linux.conf>
  */
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "lx_config.h"
 #include "tv_status.h"
@@ -74,6 +76,7 @@ static void test_example_file_parses_to_defaults(void)
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_LOOP], 100);
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_TIME], 10);
     TV_CHECK_EQ_INT(cfg.app_mode, APP_MODE_OFF);
+    TV_CHECK(strcmp(cfg.app_stops_file, "/var/lib/throttle_linux/stops.params") == 0);
     TV_CHECK_NEAR(cfg.calib_current_offset_counts, def.calib_current_offset_counts, 1e-9);
     TV_CHECK_NEAR(cfg.calib_current_A_per_count, def.calib_current_A_per_count, 1e-12);
     TV_CHECK_NEAR(cfg.calib_tps1_counts_at_zero, def.calib_tps1_counts_at_zero, 1e-6);
@@ -354,6 +357,75 @@ static void test_identified_model_keys_applied(void)
     TV_CHECK(memcmp(&app.model, &def.model, sizeof app.model) == 0);
 }
 
+/*
+ * The stops file (app.stops_file): written atomically with the stops and contact law, read back
+ * as an overlay of model.* keys onto a configuration, the application then running on them;
+ * a file not written yet is ENOENT; a key other than model.*, a duplicate or an out-of-range
+ * value is named by file and line and leaves the configuration unchanged; a non-finite value is
+ * not written.
+ */
+static void test_stops_file_round_trip_and_errors(void)
+{
+    static lx_config_t cfg;
+    static lx_config_t before;
+    static app_t a;
+    app_config_t app;
+    char err[LX_ERR_LEN];
+    char path[64];
+    char tmp[80];
+    FILE *f;
+    (void)snprintf(path, sizeof path, "/tmp/tv_stops_%ld.params", (long)getpid());
+    (void)snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    (void)remove(path);
+    TV_CHECK_EQ_INT(parse_with("", &cfg, err, sizeof err), TV_OK);
+    errno = 0;
+    TV_CHECK_EQ_INT(lx_config_overlay_model_file(path, &cfg, err, sizeof err), TV_ERR_IO);
+    TV_CHECK_EQ_INT(errno, ENOENT);
+    TV_CHECK(strstr(err, path) != NULL);
+    TV_CHECK_EQ_INT(lx_config_write_stops(path, -0.0812, 1.4207, 4321.5, 1.3, 691.44, err, sizeof err), TV_OK);
+    TV_CHECK(access(tmp, F_OK) != 0); /* renamed away */
+    TV_CHECK_EQ_INT(lx_config_overlay_model_file(path, &cfg, err, sizeof err), TV_OK);
+    app_config_default(&app);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK_NEAR(app.model.phi_closed_rad, -0.0812, 1e-12);
+    TV_CHECK_NEAR(app.model.phi_open_rad, 1.4207, 1e-12);
+    TV_CHECK_NEAR(app.model.k_stop_Nm_rad, 4321.5, 1e-9);
+    TV_CHECK_NEAR(app.model.stop_exponent, 1.3, 1e-12);
+    TV_CHECK_NEAR(app.model.d_stop_Nm_s_rad, 691.44, 1e-9);
+    TV_CHECK_EQ_INT(app_init(&a, &app), TV_OK);
+    /* bad contents: named, nothing changed */
+    before = cfg;
+    TV_CHECK_EQ_INT(lx_config_overlay_model("model.phi_open_rad = 1.4\nrt.priority = 3\n", "stops", &cfg, err, sizeof err),
+                    TV_ERR_FORMAT);
+    TV_CHECK(strstr(err, "stops:2") != NULL && strstr(err, "model.* keys only") != NULL);
+    TV_CHECK(memcmp(&before, &cfg, sizeof cfg) == 0);
+    TV_CHECK_EQ_INT(lx_config_overlay_model("model.phi_open_rad = 1.4\nmodel.phi_open_rad = 1.41\n", "stops", &cfg, err,
+                                            sizeof err),
+                    TV_ERR_FORMAT);
+    TV_CHECK(strstr(err, "stops:2") != NULL && strstr(err, "twice") != NULL);
+    TV_CHECK(lx_config_overlay_model("model.phi_closed_rad = 0.1\n", "stops", &cfg, err, sizeof err) != TV_OK);
+    TV_CHECK(strstr(err, "stops:1") != NULL && strstr(err, "model.phi_closed_rad") != NULL);
+    TV_CHECK(memcmp(&before, &cfg, sizeof cfg) == 0);
+    /* a non-finite value is not written: the old file stays */
+    TV_CHECK_EQ_INT(lx_config_write_stops(path, (double)NAN, 1.4, 1.0, 1.0, 1.0, err, sizeof err), TV_ERR_NONFINITE);
+    f = fopen(path, "r");
+    TV_CHECK(f != NULL);
+    if (f != NULL) {
+        char line[128];
+        int found = 0;
+        while (fgets(line, sizeof line, f) != NULL) {
+            found += strstr(line, "model.phi_open_rad = 1.4207") != NULL;
+        }
+        (void)fclose(f);
+        TV_CHECK_EQ_INT(found, 1);
+    }
+    /* an unwritable place is an error that names the file */
+    TV_CHECK_EQ_INT(lx_config_write_stops("/nonexistent_dir_tv/stops.params", -0.1, 1.4, 1.0, 1.0, 1.0, err, sizeof err),
+                    TV_ERR_IO);
+    TV_CHECK(strstr(err, "/nonexistent_dir_tv/stops.params") != NULL);
+    (void)remove(path);
+}
+
 int main(int argc, char **argv)
 {
     s_example_path = argc > 1 ? argv[1] : "firmware/linux_rt/throttle_linux.conf";
@@ -366,5 +438,6 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_file_errors_named);
     TV_TEST_RUN(test_shared_keys_have_one_range);
     TV_TEST_RUN(test_identified_model_keys_applied);
+    TV_TEST_RUN(test_stops_file_round_trip_and_errors);
     return tv_test_summary();
 }

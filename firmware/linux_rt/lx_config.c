@@ -2,6 +2,8 @@
  * @file lx_config.c
  * @brief Configuration file parser of the Linux controller (see lx_config.h).
  */
+#define _POSIX_C_SOURCE 200809L
+
 #include "lx_config.h"
 
 #include <errno.h>
@@ -10,6 +12,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include "lx_err.h"
 #include "tv_param_table.h"
@@ -68,6 +71,7 @@ static const key_desc_t s_keys[] = {
     NUM("can.period_ms.ekf_stats", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_EKF_STATS], 0),
     NUM("can.period_ms.time", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_TIME], 0),
     NUM("app.mode", K_MODE, 0, 7, app_mode, 0),
+    STR("app.stops_file", app_stops_file, 0),
     /* the ranges of the command frames (can_proto.h), so a configuration can be commanded */
     NUM("app.amplitude_V", K_DOUBLE, 0, 24, app_amplitude_V, 0),
     NUM("app.freq_Hz", K_DOUBLE, 0, 200, app_freq_Hz, 0),
@@ -333,22 +337,17 @@ static int check_conflicts(const lx_config_t *cfg, const char *name, char *err, 
     return TV_OK;
 }
 
-int lx_config_parse(const char *text, const char *name, lx_config_t *cfg, char *err, size_t err_len)
+/* The lines of a configuration text into cfg (not reset); seen[] marks the keys given. With
+ * model_only, only "model." keys are allowed (an overlay, lx_config_overlay_model()). */
+static int parse_lines(const char *text, const char *name, lx_config_t *cfg, unsigned char seen[N_KEYS], int model_only,
+                       char *err, size_t err_len)
 {
-    unsigned char seen[N_KEYS];
     const char *p;
     unsigned line_no = 0u;
     size_t i;
-    if (text == NULL || cfg == NULL) {
-        lx_err_set(err, err_len, "lx_config_parse: NULL argument");
-        return TV_ERR_NULL;
+    for (i = 0; i < N_KEYS; ++i) {
+        seen[i] = 0u;
     }
-    if (name == NULL) {
-        name = "config";
-    }
-    lx_err_set(err, err_len, "%s", "");
-    lx_config_default(cfg);
-    memset(seen, 0, sizeof seen);
     p = text;
     while (*p != '\0') {
         char line[LINE_MAX_LEN];
@@ -404,6 +403,10 @@ int lx_config_parse(const char *text, const char *name, lx_config_t *cfg, char *
             lx_err_set(err, err_len, "%s:%u: unknown key '%s'", name, line_no, key);
             return TV_ERR_FORMAT;
         }
+        if (model_only && strncmp(key, "model.", 6u) != 0) {
+            lx_err_set(err, err_len, "%s:%u: key '%s' is not allowed here (model.* keys only)", name, line_no, key);
+            return TV_ERR_FORMAT;
+        }
         if (seen[i]) {
             lx_err_set(err, err_len, "%s:%u: key '%s' given twice", name, line_no, key);
             return TV_ERR_FORMAT;
@@ -426,6 +429,27 @@ int lx_config_parse(const char *text, const char *name, lx_config_t *cfg, char *
             return rc;
         }
     }
+    return TV_OK;
+}
+
+int lx_config_parse(const char *text, const char *name, lx_config_t *cfg, char *err, size_t err_len)
+{
+    unsigned char seen[N_KEYS];
+    size_t i;
+    int rc;
+    if (text == NULL || cfg == NULL) {
+        lx_err_set(err, err_len, "lx_config_parse: NULL argument");
+        return TV_ERR_NULL;
+    }
+    if (name == NULL) {
+        name = "config";
+    }
+    lx_err_set(err, err_len, "%s", "");
+    lx_config_default(cfg);
+    rc = parse_lines(text, name, cfg, seen, 0, err, err_len);
+    if (rc != TV_OK) {
+        return rc;
+    }
     for (i = 0; i < N_KEYS; ++i) {
         if (s_keys[i].required && !seen[i]) {
             lx_err_set(err, err_len, "%s: missing required key '%s'", name, s_keys[i].name);
@@ -435,18 +459,34 @@ int lx_config_parse(const char *text, const char *name, lx_config_t *cfg, char *
     return check_conflicts(cfg, name, err, err_len);
 }
 
-int lx_config_load(const char *path, lx_config_t *cfg, char *err, size_t err_len)
+int lx_config_overlay_model(const char *text, const char *name, lx_config_t *cfg, char *err, size_t err_len)
 {
-    static char buf[FILE_MAX_LEN + 1u];
-    FILE *f;
-    size_t n;
-    if (path == NULL || cfg == NULL) {
-        lx_err_set(err, err_len, "lx_config_load: NULL argument");
+    unsigned char seen[N_KEYS];
+    lx_config_t tmp;
+    int rc;
+    if (text == NULL || cfg == NULL) {
+        lx_err_set(err, err_len, "lx_config_overlay_model: NULL argument");
         return TV_ERR_NULL;
     }
+    lx_err_set(err, err_len, "%s", "");
+    tmp = *cfg; /* cfg changes only when the whole file is good */
+    rc = parse_lines(text, name != NULL ? name : "model file", &tmp, seen, 1, err, err_len);
+    if (rc == TV_OK) {
+        *cfg = tmp;
+    }
+    return rc;
+}
+
+/* The whole text file path into buf (NUL-terminated); what is read as in lx_config_load(). */
+static int read_text(const char *path, const char *what, char *buf, char *err, size_t err_len)
+{
+    FILE *f;
+    size_t n;
     f = fopen(path, "r");
     if (f == NULL) {
-        lx_err_set(err, err_len, "%s: cannot open configuration file: %s", path, strerror(errno));
+        const int e = errno;
+        lx_err_set(err, err_len, "%s: cannot open %s: %s", path, what, strerror(e));
+        errno = e;
         return TV_ERR_IO;
     }
     n = fread(buf, 1u, FILE_MAX_LEN + 1u, f);
@@ -465,7 +505,73 @@ int lx_config_load(const char *path, lx_config_t *cfg, char *err, size_t err_len
         return TV_ERR_FORMAT;
     }
     buf[n] = '\0';
-    return lx_config_parse(buf, path, cfg, err, err_len);
+    return TV_OK;
+}
+
+int lx_config_load(const char *path, lx_config_t *cfg, char *err, size_t err_len)
+{
+    static char buf[FILE_MAX_LEN + 1u];
+    int rc;
+    if (path == NULL || cfg == NULL) {
+        lx_err_set(err, err_len, "lx_config_load: NULL argument");
+        return TV_ERR_NULL;
+    }
+    rc = read_text(path, "configuration file", buf, err, err_len);
+    return rc != TV_OK ? rc : lx_config_parse(buf, path, cfg, err, err_len);
+}
+
+int lx_config_overlay_model_file(const char *path, lx_config_t *cfg, char *err, size_t err_len)
+{
+    static char buf[FILE_MAX_LEN + 1u];
+    int rc;
+    if (path == NULL || cfg == NULL) {
+        lx_err_set(err, err_len, "lx_config_overlay_model_file: NULL argument");
+        return TV_ERR_NULL;
+    }
+    rc = read_text(path, "model file", buf, err, err_len);
+    return rc != TV_OK ? rc : lx_config_overlay_model(buf, path, cfg, err, err_len);
+}
+
+int lx_config_write_stops(const char *path, double phi_closed_rad, double phi_open_rad, double k_stop,
+                          double stop_exponent, double d_stop, char *err, size_t err_len)
+{
+    char tmp[LX_PATH_LEN + 8];
+    FILE *f;
+    int ok;
+    if (path == NULL) {
+        lx_err_set(err, err_len, "lx_config_write_stops: NULL argument");
+        return TV_ERR_NULL;
+    }
+    if (!isfinite(phi_closed_rad) || !isfinite(phi_open_rad) || !isfinite(k_stop) || !isfinite(stop_exponent) ||
+        !isfinite(d_stop)) {
+        lx_err_set(err, err_len, "%s: not written: a stop value is not finite", path);
+        return TV_ERR_NONFINITE;
+    }
+    if ((size_t)snprintf(tmp, sizeof tmp, "%s.tmp", path) >= sizeof tmp) {
+        lx_err_set(err, err_len, "%s: path too long", path);
+        return TV_ERR_IO;
+    }
+    f = fopen(tmp, "w");
+    if (f == NULL) {
+        lx_err_set(err, err_len, "%s: cannot write: %s", tmp, strerror(errno));
+        return TV_ERR_IO;
+    }
+    ok = fprintf(f,
+                 "# The stops and contact law throttle_linux learned (start-up routine, then online tracking),\n"
+                 "# written at its last clean stop and read at its next start (app.stops_file).\n"
+                 "model.phi_closed_rad = %.9g\nmodel.phi_open_rad = %.9g\nmodel.k_stop_Nm_rad = %.9g\n"
+                 "model.stop_exponent = %.9g\nmodel.d_stop_Nm_s_rad = %.9g\n",
+                 phi_closed_rad, phi_open_rad, k_stop, stop_exponent, d_stop) > 0;
+    ok = ok && fflush(f) == 0 && fsync(fileno(f)) == 0;
+    if (fclose(f) != 0) {
+        ok = 0;
+    }
+    if (!ok || rename(tmp, path) != 0) {
+        lx_err_set(err, err_len, "%s: cannot write: %s", path, strerror(errno));
+        (void)remove(tmp);
+        return TV_ERR_IO;
+    }
+    return TV_OK;
 }
 
 void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)

@@ -43,6 +43,9 @@ typedef struct {
     can_proto_config_t can;       /**< can.cmd_timeout_ms, can.max_counter_delta, can.period_ms.* */
     /* start-up control (commands override it at run time) */
     int32_t app_mode;             /**< app.mode: off, sine, steps, chirp, position, ident (app_mode_t) */
+    char app_stops_file[LX_PATH_LEN]; /**< app.stops_file: the learned stops and contact law, read at
+                                           start (lx_config_overlay_model_file()) and written at a
+                                           clean stop (lx_config_write_stops()); "" = none */
     double app_amplitude_V;       /**< app.amplitude_V */
     double app_freq_Hz;           /**< app.freq_Hz */
     double app_chirp_f1_Hz;       /**< app.chirp_f1_Hz */
@@ -103,6 +106,28 @@ int lx_config_load(const char *path, lx_config_t *cfg, char *err, size_t err_len
  * app_config_default()); the application validates the result in app_init().
  */
 void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app);
+
+/**
+ * Overlay a file of model.* keys (the stops file, or a parameter file's model lines) onto cfg:
+ * only keys beginning with "model." are allowed, none is required, each at most once, ranges as
+ * in the configuration; what the file does not set is left as it is.
+ * @return TV_OK; TV_ERR_IO when the file cannot be opened or read (err says why; errno is kept,
+ *         so ENOENT tells a file not written yet); TV_ERR_FORMAT / TV_ERR_RANGE / TV_ERR_CONFIG
+ *         on bad content (err names the file and line).
+ */
+int lx_config_overlay_model_file(const char *path, lx_config_t *cfg, char *err, size_t err_len);
+
+/** lx_config_overlay_model_file() on text already in memory (name is used in the messages). */
+int lx_config_overlay_model(const char *text, const char *name, lx_config_t *cfg, char *err, size_t err_len);
+
+/**
+ * Write the stops file: model.phi_closed_rad, model.phi_open_rad, model.k_stop_Nm_rad,
+ * model.stop_exponent, model.d_stop_Nm_s_rad (%.9g), to path + ".tmp", flushed and synced, then
+ * renamed over path, so a crash leaves the old file or the new one, never half of one.
+ * @return TV_OK; TV_ERR_NONFINITE; TV_ERR_IO (err names the file and the reason).
+ */
+int lx_config_write_stops(const char *path, double phi_closed_rad, double phi_open_rad, double k_stop,
+                          double stop_exponent, double d_stop, char *err, size_t err_len);
 
 #ifdef __cplusplus
 }

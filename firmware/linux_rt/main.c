@@ -16,6 +16,8 @@
  */
 #define _POSIX_C_SOURCE 200809L
 
+#include <errno.h>
+
 #include <signal.h>
 #include <stdio.h>
 #include <string.h>
@@ -149,6 +151,19 @@ int main(int argc, char **argv)
         fprintf(stderr, "throttle_linux: %s\n", err);
         return 2;
     }
+    if (cfg.app_stops_file[0] != '\0') {
+        /* the stops learned before (written at the last clean stop); none yet is no error */
+        errno = 0;
+        if (lx_config_overlay_model_file(cfg.app_stops_file, &cfg, err, sizeof err) == TV_OK) {
+            printf("throttle_linux: stops and contact law from %s\n", cfg.app_stops_file);
+        } else if (errno == ENOENT) {
+            printf("throttle_linux: %s does not exist yet: the model's stops until the start-up routine learns them\n",
+                   cfg.app_stops_file);
+        } else {
+            fprintf(stderr, "throttle_linux: %s\n", err);
+            return 2;
+        }
+    }
     app_config_default(&acfg);
     lx_config_apply_app(&cfg, &acfg);
     rc = app_init(&s_ctl.app, &acfg);
@@ -220,6 +235,19 @@ int main(int argc, char **argv)
         fprintf(stderr, "throttle_linux: stopped after %u consecutive failed ticks (last: %s); outputs safe\n",
                 (unsigned)s_ctl.io_error_run, tv_status_str(s_ctl.last_error));
         exit_code = 3;
+    }
+    if (cfg.app_stops_file[0] != '\0') {
+        /* the stops in use now (learned, then tracked in service) for the next start */
+        const tvm_params_t *mp = &s_ctl.app.ekf.model.p;
+        if (lx_config_write_stops(cfg.app_stops_file, (double)mp->phi_closed_rad, (double)mp->phi_open_rad,
+                                  (double)mp->k_stop_Nm_rad, (double)mp->stop_exponent, (double)mp->d_stop_Nm_s_rad, err,
+                                  sizeof err) == TV_OK) {
+            printf("throttle_linux: stops written to %s (closed %.5f rad, open %.5f rad)\n", cfg.app_stops_file,
+                   (double)mp->phi_closed_rad, (double)mp->phi_open_rad);
+        } else {
+            fprintf(stderr, "throttle_linux: %s\n", err);
+            exit_code = exit_code == 0 ? 1 : exit_code;
+        }
     }
     summary(&s_loop.stats, &s_ctl);
     printf("throttle_linux: outputs in the safe state (PWM 0 and disabled, bridge disabled)\n");
