@@ -309,6 +309,26 @@ def main():
     check(open(path("pl_def/paper_sine.csv")).read() != open(path("pl_st/paper_sine.csv")).read(),
           "a plant with other stops runs differently")
 
+    # --- host_sim --params-out: what a run learned, as a parameter file read back by --params (the
+    # host's persistence of the learned stops, issue 11); the stops against the unit's own plant file
+    expect([exe("host_sim"), "--mc", "2", "--params-out", path("x.params"), "--out", path("o")], 2, "--params-out")
+    expect([exe("host_sim"), "--scenario", "stop_learn", "--unit", "1005", "--spread", "stops", "--out", path("sl"),
+            "--params-out", path("learned.params")], 0)
+    plant_out, _ = expect([exe("host_sim"), "--unit", "1005", "--spread", "stops", "--print-plant-params"], 0)
+    plant = plant_out.decode()
+    learned = open(path("learned.params")).read()
+    def value(text, key):
+        for line in text.splitlines():
+            if line.startswith(key + " ="):
+                return float(line.split("=")[1].split("#")[0])
+        return float("nan")
+    for stop in ("phi_closed_rad", "phi_open_rad"):
+        err_mrad = 1e3 * abs(value(learned, "model." + stop) - value(plant, "plant." + stop))
+        check(err_mrad <= 5.0, "host_sim --params-out: the learned %s within 5 mrad of the unit's (%.2f mrad)" % (stop, err_mrad))
+    check(value(learned, "model.stop_exponent") >= 1.0, "host_sim --params-out: the learned contact law (Hunt-Crossley)")
+    expect([exe("host_sim"), "--scenario", "open_steps", "--duration", "0.5", "--unit", "1005", "--spread", "stops",
+            "--params", path("learned.params"), "--out", path("sl2")], 0)
+
     # --- fault injection and diagnostic events (issue 12): host_sim --fault / --events, replay --events
     expect([exe("host_sim"), "--fault", "tps1_offset:1"], 2, "option --fault", "no '@'")
     expect([exe("host_sim"), "--fault", "jam:5@1:0.2"], 2, "option --fault", "jam cannot drift")

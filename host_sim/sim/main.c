@@ -69,13 +69,51 @@ static void raw_row(const sim_row_t *row, void *user)
     c->rc = rlw_put(c->w, &r);
 }
 
+/* --params-out: the filter's configuration of the run with what it learned, the stops in use at
+ * the end and, when the start-up routine finished, its contact law (as app.c puts it into the
+ * estimator), as a parameter file; 0 on success. */
+static int write_learned_params(const char *path, const sim_options_t *opt, const sim_result_t *r, int have_params)
+{
+    static app_config_t cfg;
+    FILE *f;
+    int rc;
+    if (opt->app != NULL) {
+        cfg = *opt->app;
+    } else {
+        app_config_default(&cfg);
+    }
+    if (!have_params) {
+        params_init(&s_params, NULL);
+    }
+    cfg.model.phi_closed_rad = (tv_real_t)r->stop_onset_rad[0];
+    cfg.model.phi_open_rad = (tv_real_t)r->stop_onset_rad[1];
+    if (r->stop_learn_phase == (int)SL_DONE) {
+        cfg.model.k_stop_Nm_rad = (tv_real_t)r->stop_learn_k;
+        cfg.model.stop_exponent = (tv_real_t)r->stop_learn_exponent;
+        cfg.model.d_stop_Nm_s_rad = cfg.stop_learn.lambda_per_k_s_rad * (tv_real_t)r->stop_learn_k;
+    }
+    f = fopen(path, "w");
+    if (f == NULL) {
+        fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, path, strerror(errno));
+        return -1;
+    }
+    rc = params_write(f, &cfg, &s_params);
+    if (fclose(f) != 0 || rc != TV_OK) {
+        fprintf(stderr, "%s: write error on %s\n", s_prog, path);
+        return -1;
+    }
+    fprintf(stderr, "wrote %s (stops %.5f / %.5f rad%s)\n", path, r->stop_onset_rad[0], r->stop_onset_rad[1],
+            r->stop_learn_phase == (int)SL_DONE ? ", the learned contact law" : "");
+    return 0;
+}
+
 static void usage(FILE *f)
 {
     int k;
     fprintf(f,
             "usage: %s [--scenario NAME] [--duration S] [--seed N] [--mc N] [--setup 2|3]\n"
             "          [--qu X] [--qT X] [--r-current X] [--r-angle X] [--r-velocity X]\n"
-            "          [--pwm-ripple] [--drop-every N] [--out DIR] [--params FILE] [--print-params]\n"
+            "          [--pwm-ripple] [--drop-every N] [--out DIR] [--params FILE] [--params-out FILE] [--print-params]\n"
             "          [--raw-log PATH [--raw-format csv|bin]] [--plant-params FILE] [--print-plant-params]\n"
             "          [--plant-class a|b] [--unit ID [--spread stops|all]]\n"
             "          [--fault KIND[:MAGNITUDE]@T_S[:RAMP_S] ...] [--events FILE] [--help]\n"
@@ -137,6 +175,10 @@ static void usage(FILE *f)
     fprintf(f,
             "  --events FILE     write the diagnostic events (firmware/diag/diag.h) as CSV:\n"
             "                    t_us,status,fault_class,dtc, status pending|confirmed|healed\n"
+            "  --params-out FILE after the run, write the filter's parameter file with what it\n"
+            "                    learned: the stops in use (start-up routine, online tracking)\n"
+            "                    and, after stop_learn, the contact law (the host's persistence;\n"
+            "                    --params FILE reads it back)\n"
             "Outputs: DIR/<scenario>.csv, DIR/<scenario>_metrics.txt, DIR/<scenario>_metrics.json.\n"
             "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n");
 }
@@ -192,6 +234,7 @@ int main(int argc, char **argv)
     const char *params_path = NULL;
     const char *raw_path = NULL;
     const char *events_path = NULL;
+    const char *params_out = NULL;
     rlr_format_t raw_format = RLR_FMT_CSV;
     int print_params = 0;
     int print_plant_params = 0;
@@ -206,7 +249,7 @@ int main(int argc, char **argv)
     static const char *const takes_value[] = {"--scenario", "--duration", "--seed", "--mc", "--setup", "--qu", "--qT",
                                               "--r-current", "--r-angle", "--r-velocity", "--drop-every", "--out",
                                               "--params", "--raw-log", "--raw-format", "--plant-params", "--plant-class",
-                                              "--unit", "--spread", "--fault", "--events", NULL};
+                                              "--unit", "--spread", "--fault", "--events", "--params-out", NULL};
 
     sim_options_default(&opt);
     memset(&ov, 0, sizeof ov);
@@ -246,6 +289,8 @@ int main(int argc, char **argv)
                 return usage_error("option %s: empty path", a);
             }
             events_path = v;
+        } else if (strcmp(a, "--params-out") == 0) {
+            params_out = v;
         } else if (strcmp(a, "--fault") == 0) {
             char msg[PLANT_FAULT_MSG_MAX];
             if (plant_fault_list_add(&s_faults, v, msg, sizeof msg) != TV_OK) {
@@ -415,6 +460,9 @@ int main(int argc, char **argv)
     if (events_path != NULL && mc > 0u) {
         return usage_error("--events writes one run; it cannot be combined with --mc");
     }
+    if (params_out != NULL && mc > 0u) {
+        return usage_error("--params-out writes what one run learned; it cannot be combined with --mc");
+    }
     if (cli_make_dirs(out_dir) != 0) {
         fprintf(stderr, "%s: cannot create output directory %s: %s\n", s_prog, out_dir, strerror(errno));
         return MAIN_EXIT_FAIL;
@@ -534,6 +582,9 @@ int main(int argc, char **argv)
         if (raw != NULL) {
             fprintf(stderr, "wrote %s (%s, %llu records)\n", raw_path, rlr_format_name(raw_format),
                     (unsigned long long)s_raw.records);
+        }
+        if (params_out != NULL && write_learned_params(params_out, &opt, &r, params_path != NULL) != 0) {
+            return MAIN_EXIT_FAIL;
         }
         (void)sim_result_print(stdout, &r);
         f = open_out(out_dir, scn, "_metrics.txt", path, sizeof path);
