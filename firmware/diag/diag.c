@@ -58,6 +58,7 @@ void diag_init(diag_t *d)
 {
     if (d != NULL) {
         memset(d, 0, sizeof *d);
+        d->last_confirmed = (uint8_t)DIAG_DTC_COUNT;
     }
 }
 
@@ -138,6 +139,7 @@ int diag_report(diag_t *d, diag_dtc_t dtc, diag_result_t res, const diag_snapsho
             c->freeze.value = value;
         }
         c->has_freeze = 1u;
+        d->last_confirmed = (uint8_t)dtc;
         if (c->confirmations < 0xFFFFFFFFu) {
             ++c->confirmations;
         }
