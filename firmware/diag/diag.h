@@ -53,6 +53,8 @@ typedef enum {
     DIAG_DTC_P2100,     /**< throttle actuator motor circuit open: no current under a large voltage */
     DIAG_DTC_P2101,     /**< throttle actuator motor circuit range/performance: winding resistance above its range */
     DIAG_DTC_P1A01,     /**< project code: winding resistance below its range (shorted turns) */
+    DIAG_DTC_P2119,     /**< throttle actuator control throttle body range/performance: friction level above its range */
+    DIAG_DTC_P1A02,     /**< project code: return-spring preload below its range (limp-home not assured) */
     DIAG_DTC_COUNT      /**< number of codes (not a code) */
 } diag_dtc_t;
 
