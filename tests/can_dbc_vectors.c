@@ -10,6 +10,8 @@
  *   FRAME <candump line>       one encoded frame, alternately in log (-L) and default format
  *   EXPECT <msg> <sig> <value> <tol>
  *                              the value the DBC must decode for that signal of the last FRAME
+ *   DTC <index> <code>         the firmware's code table (firmware/diag/diag.h), which the DBC's
+ *                              value tables of LastDtc and FreezeDtc must name alike
  *
  * Two kinds of vectors:
  *   typed  - the public encoders (can_host_encode_control/excitation/telemetry) fed known
@@ -221,6 +223,35 @@ static void typed_telemetry(const can_proto_telemetry_t *tm, uint8_t counter)
         case CAN_PROTO_ID_TIME:
             expect(m->name, "SampleTime", (double)tm->loop.sample_time_us);
             break;
+        case CAN_PROTO_ID_HEALTH_1:
+            expect(m->name, "ResistanceEst", (double)tm->r_est_ohm);
+            expect(m->name, "ResistanceSigma", (double)tm->r_sigma_ohm);
+            expect(m->name, "FrictionRel", (double)tm->friction_rel);
+            expect(m->name, "FrictionRelSigma", (double)tm->friction_rel_sigma);
+            break;
+        case CAN_PROTO_ID_HEALTH_2:
+            expect(m->name, "PreloadRel", (double)tm->preload_rel);
+            expect(m->name, "PreloadRelSigma", (double)tm->preload_rel_sigma);
+            expect(m->name, "StopClosed", (double)tm->stop_closed_rad);
+            expect(m->name, "StopOpen", (double)tm->stop_open_rad);
+            break;
+        case CAN_PROTO_ID_DIAG:
+            expect(m->name, "DtcCount", (double)tm->dtc_count);
+            expect(m->name, "LastDtc", (double)tm->last_dtc);
+            expect(m->name, "LastDtcStatus", (double)tm->last_dtc_status);
+            expect(m->name, "Action", (double)tm->dtc_action);
+            expect(m->name, "LastDtcConfirmations", (double)tm->last_dtc_confirmations);
+            expect(m->name, "ConfirmedMask", (double)tm->dtc_mask);
+            expect(m->name, "LastDtcTime", (double)tm->last_dtc_time_s);
+            break;
+        case CAN_PROTO_ID_DIAG_FREEZE:
+            expect(m->name, "FreezeDtc", (double)tm->freeze_dtc);
+            expect(m->name, "FreezeAngle", (double)tm->freeze_angle_rad);
+            expect(m->name, "FreezeVelocity", (double)tm->freeze_velocity_rad_s);
+            expect(m->name, "FreezeDuty", (double)tm->freeze_duty);
+            expect(m->name, "FreezeSupply", (double)tm->freeze_supply_V);
+            expect(m->name, "FreezeCurrent", (double)tm->freeze_current_A);
+            break;
         default:
             expect(m->name, "NisMean", (double)tm->nis_mean);
             expect(m->name, "Corrections", (double)tm->corrections);
@@ -271,6 +302,27 @@ static void telemetry_sets(void)
     a.corrections = 100u;
     a.ekf_rejected = 65537u;
     a.loop.sample_time_us = 123456789u;
+    a.r_est_ohm = 4.321f;
+    a.r_sigma_ohm = 0.0234f;
+    a.friction_rel = 1.2345f;
+    a.friction_rel_sigma = 0.01234f; /* 61.7 counts, not on a half count */
+    a.preload_rel = 0.7005f;
+    a.preload_rel_sigma = 0.0082f;
+    a.stop_closed_rad = -0.1234f;
+    a.stop_open_rad = 1.4321f;
+    a.dtc_count = 2u;
+    a.last_dtc = 6u;
+    a.last_dtc_status = 1u;
+    a.dtc_action = 1u;
+    a.last_dtc_confirmations = 3u;
+    a.dtc_mask = 0x00C0u;
+    a.last_dtc_time_s = 12.3f;
+    a.freeze_dtc = 6u;
+    a.freeze_angle_rad = 0.456f;
+    a.freeze_velocity_rad_s = -12.35f;
+    a.freeze_duty = -0.37f;
+    a.freeze_supply_V = 13.5f;
+    a.freeze_current_A = 1.7f;
     typed_telemetry(&a, 5u);
     /* the other signs, the other flag values, near the ends of the ranges */
     a.est[0] = -32.0f;
@@ -310,6 +362,27 @@ static void telemetry_sets(void)
     a.corrections = 65535u;
     a.ekf_rejected = 42u;
     a.loop.sample_time_us = 4294967295u;
+    a.r_est_ohm = 16.0f;
+    a.r_sigma_ohm = 1.0f;
+    a.friction_rel = 2.0f;
+    a.friction_rel_sigma = 0.8f;
+    a.preload_rel = 0.0f;
+    a.preload_rel_sigma = 0.2f;
+    a.stop_closed_rad = -0.4f;
+    a.stop_open_rad = 1.8f;
+    a.dtc_count = 15u;
+    a.last_dtc = CAN_PROTO_DTC_NONE;
+    a.last_dtc_status = 2u;
+    a.dtc_action = 2u;
+    a.last_dtc_confirmations = 255u;
+    a.dtc_mask = 0xFFFFu;
+    a.last_dtc_time_s = 6553.0f;
+    a.freeze_dtc = 0u;
+    a.freeze_angle_rad = 1.7f;
+    a.freeze_velocity_rad_s = 100.0f;
+    a.freeze_duty = 1.0f;
+    a.freeze_supply_V = 25.0f;
+    a.freeze_current_A = -12.0f;
     typed_telemetry(&a, 15u);
 }
 
@@ -371,9 +444,18 @@ static void sweep(void)
     }
 }
 
+static void print_dtc_table(void)
+{
+    int k;
+    for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
+        printf("DTC %d %s\n", k, diag_dtc_info((diag_dtc_t)k)->code);
+    }
+}
+
 int main(void)
 {
     print_tables();
+    print_dtc_table();
     typed_commands();
     telemetry_sets();
     typed_ecu_cpu();

@@ -12,7 +12,10 @@ Runs the C vector generator (tests/can_dbc_vectors.c), then proves with tools/ca
      and its CRC checks;
   3. every DBC signal is exercised by the typed encoders (a signal no encoder writes would be
      a signal the DBC promises but the controller never sends);
-  4. the candump line parser handles the formats it promises (log, default, timestamps,
+  4. the DBC's value tables of the code-index signals (TV_DIAG LastDtc, TV_DIAG_FREEZE FreezeDtc)
+     name the firmware's code table (DTC lines) index by index, 15 being NONE, and every signal
+     of the health and diagnostic frames has a unit where it has one and a comment;
+  5. the candump line parser handles the formats it promises (log, default, timestamps,
      extended ids, remote requests, CAN FD) and rejects what is not a frame.
 Prints what it checked; exit 0 when everything agrees.
 """
@@ -88,6 +91,30 @@ def check_parser():
     return ok
 
 
+# frames whose every signal (CRC and Counter aside) must carry a DBC comment
+COMMENTED = ("TV_HEALTH_1", "TV_HEALTH_2", "TV_DIAG", "TV_DIAG_FREEZE")
+
+
+def check_dtc_tables(dtc, dbc):
+    by_name = {m.name: m for m in dbc.values()}
+    want = dict(dtc)
+    want[15] = "NONE"
+    for msg, sig in (("TV_DIAG", "LastDtc"), ("TV_DIAG_FREEZE", "FreezeDtc")):
+        m = by_name.get(msg)
+        s = next((x for x in m.signals if x.name == sig), None) if m else None
+        got = getattr(s, "values", None) if s else None
+        if got != want:
+            fail("%s.%s value table %s, firmware code table %s" % (msg, sig, got, want))
+    for msg in COMMENTED:
+        m = by_name.get(msg)
+        if m is None or not m.comment:
+            fail("%s: no message comment" % msg)
+            continue
+        for s in m.signals:
+            if s.name not in ("CRC", "Counter") and not s.comment:
+                fail("%s.%s: no comment" % (msg, s.name))
+
+
 def main():
     if len(sys.argv) != 3:
         print(__doc__)
@@ -101,6 +128,7 @@ def main():
     decoded = None
     n_frames = n_expect = 0
     typed_signals = set()
+    dtc = []
     in_sweep = False
     for line in out:
         word, _, rest = line.partition(" ")
@@ -136,11 +164,17 @@ def main():
                 fail("%s.%s: C encoded %.9g, DBC decodes %s (tolerance %.3g)" % (msg, sig, value, got, tol))
             if not in_sweep:
                 typed_signals.add((msg, sig))
+        elif word == "DTC":
+            idx, code = rest.split()
+            dtc.append((int(idx), code))
         elif word == "SWEEP":
             in_sweep = True
         elif word == "ERROR":
             fail("generator: " + rest)
     check_tables(c_msgs, c_sigs, dbc)
+    if not dtc:
+        fail("the generator printed no code table")
+    check_dtc_tables(dtc, dbc)
     every = {(m.name, s.name) for m in dbc.values() for s in m.signals if s.name != "CRC"}
     missing = sorted(every - typed_signals)
     if missing:

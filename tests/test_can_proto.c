@@ -292,6 +292,27 @@ static void test_telemetry_round_trips_and_saturates(void)
     tm.corrections = 100u;
     tm.ekf_rejected = 65537u;  /* mod 65536 = 1 */
     tm.loop.sample_time_us = 4000000001u; /* beyond a float's 24 bits: carried as an integer */
+    tm.r_est_ohm = 4.3217f;
+    tm.r_sigma_ohm = 0.0456f;
+    tm.friction_rel = 1.6543f;
+    tm.friction_rel_sigma = 0.0321f;
+    tm.preload_rel = 0.3012f;
+    tm.preload_rel_sigma = 0.0077f;
+    tm.stop_closed_rad = -0.0987f;
+    tm.stop_open_rad = 1.4567f;
+    tm.dtc_count = 3u;
+    tm.last_dtc = 7u;
+    tm.last_dtc_status = 2u;
+    tm.dtc_action = 1u;
+    tm.last_dtc_confirmations = 4u;
+    tm.dtc_mask = 0x0181u;
+    tm.last_dtc_time_s = 123.44f;
+    tm.freeze_dtc = 7u;
+    tm.freeze_angle_rad = 0.8765f;
+    tm.freeze_velocity_rad_s = -33.33f;
+    tm.freeze_duty = 0.404f;
+    tm.freeze_supply_V = 12.34f;
+    tm.freeze_current_A = -2.34f;
     memset(&back, 0, sizeof back);
     for (i = 0; i < CAN_PROTO_N_TX; ++i) {
         const can_proto_msg_t *m = can_proto_msg_at(CAN_PROTO_N_CMD + i);
@@ -340,6 +361,41 @@ static void test_telemetry_round_trips_and_saturates(void)
     TV_CHECK_EQ_INT(back.corrections, 100);
     TV_CHECK_EQ_INT(back.ekf_rejected, 1);
     TV_CHECK(back.loop.sample_time_us == 4000000001u);
+    /* health and diagnostic frames: half a count of each scale plus float rounding */
+    TV_CHECK_NEAR(back.r_est_ohm, 4.3217, 0.0005 + 1e-6);
+    TV_CHECK_NEAR(back.r_sigma_ohm, 0.0456, 0.0005 + 1e-7);
+    TV_CHECK_NEAR(back.friction_rel, 1.6543, 0.00025 + 1e-6);
+    TV_CHECK_NEAR(back.friction_rel_sigma, 0.0321, 0.0001 + 1e-7);
+    TV_CHECK_NEAR(back.preload_rel, 0.3012, 0.00025 + 1e-6);
+    TV_CHECK_NEAR(back.preload_rel_sigma, 0.0077, 0.0001 + 1e-7);
+    TV_CHECK_NEAR(back.stop_closed_rad, -0.0987, 0.00005 + 1e-6);
+    TV_CHECK_NEAR(back.stop_open_rad, 1.4567, 0.00005 + 1e-6);
+    TV_CHECK_EQ_INT(back.dtc_count, 3);
+    TV_CHECK_EQ_INT(back.last_dtc, 7);
+    TV_CHECK_EQ_INT(back.last_dtc_status, 2);
+    TV_CHECK_EQ_INT(back.dtc_action, 1);
+    TV_CHECK_EQ_INT(back.last_dtc_confirmations, 4);
+    TV_CHECK_EQ_INT(back.dtc_mask, 0x0181);
+    TV_CHECK_NEAR(back.last_dtc_time_s, 123.4, 1e-4); /* 123.44 s to 0.1 s */
+    TV_CHECK_EQ_INT(back.freeze_dtc, 7);
+    TV_CHECK_NEAR(back.freeze_angle_rad, 0.8765, 0.0005 + 1e-6);
+    TV_CHECK_NEAR(back.freeze_velocity_rad_s, -33.33, 0.025 + 1e-5);
+    TV_CHECK_NEAR(back.freeze_duty, 0.404, 0.005 + 1e-6);
+    TV_CHECK_NEAR(back.freeze_supply_V, 12.34, 0.05 + 1e-5);
+    TV_CHECK_NEAR(back.freeze_current_A, -2.34, 0.05 + 1e-6);
+    /* the offset fields saturate at their ends: a stop beyond the documented range */
+    tm.stop_closed_rad = -1.0f;
+    tm.stop_open_rad = 2.5f;
+    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_2, &tm, 0u, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_NEAR(back.stop_closed_rad, -0.4, 1e-6);
+    TV_CHECK_NEAR(back.stop_open_rad, 1.8191, 1e-5);
+    tm.stop_closed_rad = 0.5f;
+    tm.stop_open_rad = 0.0f;
+    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_2, &tm, 0u, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_NEAR(back.stop_closed_rad, 0.0095, 1e-6);
+    TV_CHECK_NEAR(back.stop_open_rad, 1.0, 1e-6);
 
     /* saturation at both ends and NaN */
     tm.est[0] = 1e6f;
@@ -728,6 +784,7 @@ static void test_telemetry_schedule(void)
     unsigned count[CAN_PROTO_N_TX];
     uint8_t last_ctr[CAN_PROTO_N_TX];
     int ctr_ok = 1;
+    unsigned ticks_shared = 0u;
     uint64_t t;
     size_t k;
     memset(count, 0, sizeof count);
@@ -742,12 +799,20 @@ static void test_telemetry_schedule(void)
         m = can_proto_node_transmit(&n, &app, &out, &loop, 0, t, frames);
         if (m > 0u && frames[m - 1u].id == CAN_PROTO_ID_TIME) {
             TV_CHECK_EQ_INT(frames[0].id, CAN_PROTO_ID_EST_STATE);
+            if (m > 2u) {
+                ++ticks_shared;
+            }
+        } else if (m > 1u) {
+            ++ticks_shared;
         }
         for (i = 0; i < m; ++i) {
             const size_t idx = frames[i].id - CAN_PROTO_ID_EST_STATE;
             const uint8_t c = can_proto_frame_counter(&frames[i]);
             if (count[idx] == 0u) {
-                TV_CHECK_EQ_INT(t, idx == CAN_PROTO_TX_TIME ? 0u : idx * 1000u);
+                /* documented offsets: k ms for k <= EKF_STATS, TV_TIME 0, the health and
+                 * diagnostic frames 8, 9, 18, 19 ms */
+                static const unsigned first_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 0u, 8u, 9u, 18u, 19u};
+                TV_CHECK_EQ_INT(t, first_ms[idx] * 1000u);
             } else if (c != (uint8_t)((last_ctr[idx] + 1u) & 15u)) {
                 ctr_ok = 0;
             }
@@ -757,6 +822,7 @@ static void test_telemetry_schedule(void)
         }
     }
     TV_CHECK(ctr_ok);
+    TV_CHECK_EQ_INT(ticks_shared, 0); /* default periods: never two ids in one tick (TV_TIME aside) */
     for (k = 0; k < CAN_PROTO_N_TX; ++k) {
         const unsigned expect =
             k == CAN_PROTO_TX_MEAS ? 0u : (k < CAN_PROTO_TX_LOOP || k == CAN_PROTO_TX_TIME ? 100u : 10u);
@@ -770,6 +836,94 @@ static void test_telemetry_schedule(void)
         TV_CHECK_EQ_INT(can_proto_node_transmit(&n, &app, &out, &loop, 0, 1051000u, frames), 0);
     }
     TV_CHECK_EQ_INT(can_proto_node_transmit(NULL, &app, &out, &loop, 0, 0u, frames), 0);
+}
+
+/* Send the application's health and diagnostic frames and decode them back. */
+static void health_diag_round_trip(const app_t *app, const app_output_t *out, can_proto_telemetry_t *back)
+{
+    static const uint32_t ids[] = {CAN_PROTO_ID_HEALTH_1, CAN_PROTO_ID_HEALTH_2, CAN_PROTO_ID_DIAG, CAN_PROTO_ID_DIAG_FREEZE};
+    can_proto_telemetry_t tm;
+    size_t i;
+    memset(&tm, 0, sizeof tm);
+    memset(back, 0xA5, sizeof *back);
+    can_proto_telemetry_from_app(app, out, &tm);
+    for (i = 0; i < sizeof ids / sizeof ids[0]; ++i) {
+        hal_can_frame_t f;
+        TV_CHECK_EQ_INT(can_proto_encode_telemetry(ids[i], &tm, 0u, &f), TV_OK);
+        TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, back), CAN_PROTO_RX_ACCEPTED);
+    }
+}
+
+/* The health frames carry the application output's adapted parameters and stops; the
+ * diagnostic frames say "none" until a code is confirmed, then that code, its status, action,
+ * time since the first step and the freeze frame of the snapshot that confirmed it (values put
+ * in here, independent of the estimator), and "history" once it is cleared. */
+static void test_health_and_diag_frames_follow_the_application(void)
+{
+    static app_t app;
+    app_output_t out;
+    can_proto_telemetry_t back;
+    diag_snapshot_t snap;
+    int k;
+    app_ok(&app);
+    step_at_rest(&app, 5000000u, &out); /* the first step: the time base of LastDtcTime */
+    step_at_rest(&app, 5001000u, &out);
+    health_diag_round_trip(&app, &out, &back);
+    /* half a count of each scale plus float rounding */
+    TV_CHECK_NEAR(back.r_est_ohm, out.r_est_ohm, 0.0005 + 1e-5);
+    TV_CHECK_NEAR(back.r_sigma_ohm, out.r_sigma_ohm, 0.0005 + 1e-6);
+    TV_CHECK_NEAR(back.friction_rel, out.friction_rel, 0.00025 + 1e-6);
+    TV_CHECK_NEAR(back.friction_rel_sigma, out.friction_rel_sigma, 0.0001 + 1e-6);
+    TV_CHECK_NEAR(back.preload_rel, out.preload_rel, 0.00025 + 1e-6);
+    TV_CHECK_NEAR(back.preload_rel_sigma, out.preload_rel_sigma, 0.0001 + 1e-6);
+    TV_CHECK_NEAR(back.stop_closed_rad, out.stop_closed_rad, 0.00005 + 1e-6);
+    TV_CHECK_NEAR(back.stop_open_rad, out.stop_open_rad, 0.00005 + 1e-6);
+    TV_CHECK(out.r_est_ohm > TV_R(1.0) && out.friction_rel > TV_R(0.5)); /* real values, not zeros */
+    TV_CHECK_EQ_INT(back.dtc_count, 0);
+    TV_CHECK_EQ_INT(back.dtc_mask, 0);
+    TV_CHECK_EQ_INT(back.last_dtc, CAN_PROTO_DTC_NONE);
+    TV_CHECK_EQ_INT(back.last_dtc_status, 0);
+    TV_CHECK_EQ_INT(back.freeze_dtc, CAN_PROTO_DTC_NONE);
+    /* confirm P2101 (action none) and P1A01 (limited authority) through the application's codes */
+    memset(&snap, 0, sizeof snap);
+    snap.t_us = 7500000u; /* 2.5 s after the first step */
+    snap.x[TVM_I] = TV_R(1.2);
+    snap.x[TVM_W] = TV_R(-3.4);
+    snap.x[TVM_PHI] = TV_R(0.5);
+    snap.supply_V = TV_R(13.5);
+    snap.duty = TV_R(0.25);
+    for (k = 0; k < 200; ++k) {
+        TV_CHECK_EQ_INT(diag_report(&app.diag, DIAG_DTC_P1A01, DIAG_FAIL, &snap, TV_R(0.5)), TV_OK);
+    }
+    snap.t_us = 7600000u;
+    for (k = 0; k < 200; ++k) {
+        TV_CHECK_EQ_INT(diag_report(&app.diag, DIAG_DTC_P2101, DIAG_FAIL, &snap, TV_R(1.5)), TV_OK);
+    }
+    step_at_rest(&app, 5002000u, &out);
+    TV_CHECK_EQ_INT(out.dtc_confirmed, (1u << DIAG_DTC_P2101) | (1u << DIAG_DTC_P1A01));
+    health_diag_round_trip(&app, &out, &back);
+    TV_CHECK_EQ_INT(back.dtc_count, 2);
+    TV_CHECK_EQ_INT(back.dtc_mask, (1u << DIAG_DTC_P2101) | (1u << DIAG_DTC_P1A01));
+    TV_CHECK_EQ_INT(back.dtc_action, DIAG_ACTION_LIMITED);
+    TV_CHECK_EQ_INT(back.last_dtc, DIAG_DTC_P2101); /* the most recent confirmation */
+    TV_CHECK_EQ_INT(back.last_dtc_status, 1);
+    TV_CHECK_EQ_INT(back.last_dtc_confirmations, 1);
+    TV_CHECK_NEAR(back.last_dtc_time_s, 2.6, 0.05 + 1e-6);
+    TV_CHECK_EQ_INT(back.freeze_dtc, DIAG_DTC_P2101);
+    TV_CHECK_NEAR(back.freeze_angle_rad, 0.5, 0.0005 + 1e-6);
+    TV_CHECK_NEAR(back.freeze_velocity_rad_s, -3.4, 0.025 + 1e-6);
+    TV_CHECK_NEAR(back.freeze_duty, 0.25, 0.005 + 1e-6);
+    TV_CHECK_NEAR(back.freeze_supply_V, 13.5, 0.05 + 1e-6);
+    TV_CHECK_NEAR(back.freeze_current_A, 1.2, 0.05 + 1e-6);
+    /* a tester's clear: nothing confirmed, the last code kept as history */
+    diag_clear(&app.diag);
+    step_at_rest(&app, 5003000u, &out);
+    health_diag_round_trip(&app, &out, &back);
+    TV_CHECK_EQ_INT(back.dtc_count, 0);
+    TV_CHECK_EQ_INT(back.dtc_action, DIAG_ACTION_NONE);
+    TV_CHECK_EQ_INT(back.last_dtc, DIAG_DTC_P2101);
+    TV_CHECK_EQ_INT(back.last_dtc_status, 2);
+    TV_CHECK_EQ_INT(back.freeze_dtc, DIAG_DTC_P2101);
 }
 
 /* TV_EKF_STATS carries the mean NIS of the corrections since the last TV_EKF_STATS. */
@@ -824,5 +978,6 @@ int main(void)
     TV_TEST_RUN(test_node_config_validated);
     TV_TEST_RUN(test_telemetry_schedule);
     TV_TEST_RUN(test_ekf_stats_window_mean);
+    TV_TEST_RUN(test_health_and_diag_frames_follow_the_application);
     return tv_test_summary();
 }

@@ -42,13 +42,16 @@ static int unit_config(uint64_t unit, plant_spread_t spread, plant_config_t *pc,
     return 1;
 }
 
-/* One run with one fault (spec NULL: healthy). */
-static void run_with(const plant_config_t *pc, const app_config_t *ac, sim_scenario_t scn, uint64_t seed, const char *spec,
-                     sim_result_t *r)
+/* One run with one fault (spec NULL: healthy), of duration_s [s] (0: the scenario's own). */
+static void run_with_duration(const plant_config_t *pc, const app_config_t *ac, sim_scenario_t scn, uint64_t seed,
+                              const char *spec, double duration_s, sim_result_t *r)
 {
     sim_options_t opt;
     static plant_fault_list_t l;
     sim_options_default(&opt);
+    if (duration_s > 0.0) {
+        opt.duration_s = duration_s;
+    }
     opt.scenario = scn;
     opt.seed = seed;
     opt.plant = pc;
@@ -59,6 +62,13 @@ static void run_with(const plant_config_t *pc, const app_config_t *ac, sim_scena
         opt.faults = &l;
     }
     TV_CHECK_EQ_INT(sim_run(&opt, r), TV_OK);
+}
+
+/* One run of the scenario's own length with one fault (spec NULL: healthy). */
+static void run_with(const plant_config_t *pc, const app_config_t *ac, sim_scenario_t scn, uint64_t seed, const char *spec,
+                     sim_result_t *r)
+{
+    run_with_duration(pc, ac, scn, seed, spec, 0.0, r);
 }
 
 static int ever(const sim_result_t *r, diag_dtc_t d)
@@ -227,6 +237,125 @@ static void test_winding_resistance_out_of_range(void)
     TV_CHECK_LE(worst_lo, 0.7);
 }
 
+/* The adapted-mechanics check on scripted estimates (no estimator): it runs at every
+ * DIAG_PARAM_DECIM-th call only, never while the plate is slower than param_excite_rad_s, the
+ * estimate's sigma above its bound or the check inactive; P2119 confirms at the 100th failing
+ * check (1,000 calls = 1 s at 1 kHz), heals after 100 consecutive passing checks; P1A02 alike.
+ * Expectations from the code table's counts (diag.c) and the defaults (diag_detect.c). */
+static void test_mechanics_check_timing(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int k;
+    int first = -1;
+    diag_detect_config_default(&cfg);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_init(&d);
+    memset(&snap, 0, sizeof snap);
+    /* not informed: slow plate, wide sigma, inactive: nothing happens however high the level */
+    for (k = 0; k < 5000; ++k) {
+        diag_param_check(&dd, &d, 1, TV_R(0.49), TV_R(1.79), TV_R(0.01), TV_R(0.2), TV_R(0.01), &snap);
+        diag_param_check(&dd, &d, 1, TV_R(2.0), TV_R(1.79), TV_R(0.051), TV_R(0.2), TV_R(0.031), &snap);
+        diag_param_check(&dd, &d, 0, TV_R(2.0), TV_R(1.79), TV_R(0.01), TV_R(0.2), TV_R(0.01), &snap);
+    }
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P2119) && !diag_confirmed(&d, DIAG_DTC_P2119));
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
+    /* informed: friction 1.71 > 1.7, preload 0.39 < 0.4 */
+    diag_init(&d);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    for (k = 1; k <= 2000 && first < 0; ++k) {
+        snap.t_us = (uint64_t)k * 1000u;
+        diag_param_check(&dd, &d, 1, TV_R(-1.0), TV_R(1.71), TV_R(0.02), TV_R(0.39), TV_R(0.01), &snap);
+        if (k == (int)DIAG_PARAM_DECIM - 1) {
+            TV_CHECK(!diag_pending(&d, DIAG_DTC_P2119)); /* not checked before the 10th call */
+        }
+        if (k == (int)DIAG_PARAM_DECIM) {
+            TV_CHECK(diag_pending(&d, DIAG_DTC_P2119) && diag_pending(&d, DIAG_DTC_P1A02));
+        }
+        if (diag_confirmed(&d, DIAG_DTC_P2119)) {
+            first = k;
+        }
+    }
+    TV_CHECK_EQ_INT(first, 100 * (int)DIAG_PARAM_DECIM);
+    TV_CHECK(diag_confirmed(&d, DIAG_DTC_P1A02));
+    TV_CHECK_EQ_INT(diag_action(&d), DIAG_ACTION_LIMITED); /* the weak spring's action; friction's is none */
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P2119].freeze.value, 1.71, 1e-6);
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P1A02].freeze.value, 0.39, 1e-6);
+    TV_CHECK_EQ_INT(d.code[DIAG_DTC_P2119].freeze.t_us, 1000000u);
+    /* healing: 99 passing checks keep it, the 100th heals */
+    for (k = 0; k < 99 * (int)DIAG_PARAM_DECIM; ++k) {
+        diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.3), TV_R(0.02), TV_R(0.9), TV_R(0.01), &snap);
+    }
+    TV_CHECK(diag_confirmed(&d, DIAG_DTC_P2119) && diag_confirmed(&d, DIAG_DTC_P1A02));
+    for (k = 0; k < (int)DIAG_PARAM_DECIM; ++k) {
+        diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.3), TV_R(0.02), TV_R(0.9), TV_R(0.01), &snap);
+    }
+    TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P2119) && !diag_confirmed(&d, DIAG_DTC_P1A02));
+    /* a bound on the wrong side of 1 is refused */
+    cfg.friction_high_rel = TV_R(1.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    diag_detect_config_default(&cfg);
+    cfg.preload_low_rel = TV_R(1.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+}
+
+/* Latencies of one adapted-mechanics fault over a set of runs. */
+typedef struct {
+    int detected;
+    double best_s;
+    double worst_s; /* 1e9 once a run misses */
+} latency_t;
+
+/* One 12 s run of the nominal unit with spec from 1.0 s: the latency of code `own` into *l;
+ * the other mechanics code `other` must not confirm. */
+static void mechanics_run(const plant_config_t *pc, const app_config_t *ac, sim_scenario_t scn, uint64_t seed,
+                          const char *spec, diag_dtc_t own, diag_dtc_t other, latency_t *l)
+{
+    sim_result_t r;
+    double t;
+    run_with_duration(pc, ac, scn, seed, spec, 12.0, &r);
+    t = isfinite(r.dtc_confirm_t_s[own]) ? r.dtc_confirm_t_s[own] - 1.0 : 1e9;
+    l->detected += t < 1e9 ? 1 : 0;
+    l->worst_s = fmax(l->worst_s, t);
+    l->best_s = fmin(l->best_s, t);
+    TV_CHECK(!isfinite(r.dtc_confirm_t_s[other]));
+}
+
+/* Friction x2 (Coulomb and static) and a return spring at 30 % (preload and rate) from 1.0 s,
+ * in the scenarios whose plate slides fast enough for the estimator to follow (closed-loop
+ * steps, the 12 V sine, open-loop steps, chirp), nominal unit, 3 seeds, 12 s runs: the fault's
+ * own code confirmed within 8 s of the onset, never the other's. The estimates are capped at
+ * 1 + f <= 1.8 (ekf.f_abs_max): friction x2 reads 1.8, above the 1.7 bound. */
+static void test_friction_and_spring_codes(void)
+{
+    static const sim_scenario_t scn[4] = {SIM_SCN_CLOSED_STEPS, SIM_SCN_PAPER_SINE, SIM_SCN_OPEN_STEPS, SIM_SCN_CHIRP};
+    static plant_config_t pc;
+    static app_config_t ac;
+    latency_t lf = {0, 1e9, 0.0};
+    latency_t lm = {0, 1e9, 0.0};
+    uint64_t seed;
+    int s;
+    int runs = 0;
+    plant_config_default(&pc);
+    app_config_default(&ac);
+    for (seed = 1u; seed <= 3u; ++seed) {
+        for (s = 0; s < 4; ++s) {
+            mechanics_run(&pc, &ac, scn[s], seed, "friction_high:2@1.0", DIAG_DTC_P2119, DIAG_DTC_P1A02, &lf);
+            mechanics_run(&pc, &ac, scn[s], seed, "spring_weak:0.3@1.0", DIAG_DTC_P1A02, DIAG_DTC_P2119, &lm);
+            ++runs;
+        }
+    }
+    printf("  friction x2: P2119 in %d of %d runs, %.2f..%.2f s after the onset; spring at 30 %%: P1A02 in %d of %d, "
+           "%.2f..%.2f s\n",
+           lf.detected, runs, lf.best_s, lf.worst_s, lm.detected, runs, lm.best_s, lm.worst_s);
+    TV_CHECK_EQ_INT(lf.detected, runs);
+    TV_CHECK_EQ_INT(lm.detected, runs);
+    TV_CHECK_LE(lf.worst_s, 8.0);
+    TV_CHECK_LE(lm.worst_s, 8.0);
+}
+
 /* No code confirmed on healthy units: 12 evaluation units per spread (every third of class b),
  * every benchmark scenario, seed 1, after stop learning (which must not confirm one either). */
 static void test_no_code_confirmed_on_healthy_units(void)
@@ -277,6 +406,8 @@ int main(void)
     TV_TEST_RUN(test_jam_confirmed_within_100_ms);
     TV_TEST_RUN(test_open_winding_confirmed_within_10_ms);
     TV_TEST_RUN(test_winding_resistance_out_of_range);
+    TV_TEST_RUN(test_mechanics_check_timing);
+    TV_TEST_RUN(test_friction_and_spring_codes);
     TV_TEST_RUN(test_no_code_confirmed_on_healthy_units);
     return tv_test_summary();
 }

@@ -75,6 +75,8 @@ static void test_example_file_parses_to_defaults(void)
     TV_CHECK_EQ_INT(cfg.can.cmd_timeout_ms, def.can.cmd_timeout_ms);
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_LOOP], 100);
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_TIME], 10);
+    TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_HEALTH_1], 100);
+    TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_DIAG_FREEZE], 100);
     TV_CHECK_EQ_INT(cfg.app_mode, APP_MODE_OFF);
     TV_CHECK(strcmp(cfg.app_stops_file, "/var/lib/throttle_linux/stops.params") == 0);
     TV_CHECK_NEAR(cfg.calib_current_offset_counts, def.calib_current_offset_counts, 1e-9);

@@ -573,6 +573,8 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
     }
     diag_resistance_check(&app->ddet, &app->diag, was_on && app->diag_bridge_on && c->mode != APP_MODE_STOP_LEARN,
                           out->z[EKF_CH_CURRENT], out->r_est_ohm, out->r_sigma_ohm, app->ekf.model.p.R_ohm, snap);
+    diag_param_check(&app->ddet, &app->diag, c->mode != APP_MODE_STOP_LEARN && out->ekf_status == TV_OK, out->x[TVM_W],
+                     out->friction_rel, out->friction_rel_sigma, out->preload_rel, out->preload_rel_sigma, snap);
     out->dtc_action = (uint8_t)diag_summary(&app->diag, &out->dtc_confirmed);
 }
 

@@ -15,7 +15,9 @@
  * P2111 / P2112 50 ms (inside the 100 ms jam target, and 25x the 2 ms a healthy plate needs to
  * move after a max-slew step), P2100 5 ms (inside the 10 ms open-winding target), P2101 / P1A01
  * 200 ms (the estimated resistance is a slow, filtered quantity). Healing: 1 s of consecutive
- * passes. */
+ * passes. P2119 / P1A02 are checked every DIAG_PARAM_DECIM steps (10 ms, diag_detect.h) and
+ * only while the plate moves: their counts are checks, 100 = 1 s of informed operation to
+ * confirm and to heal. */
 static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
     {"P0121", "tps1_fault", "throttle position sensor 1 range/performance (track 1 named by the estimator's vote)", 20u, 1000u,
      DIAG_ACTION_LIMITED},
@@ -32,6 +34,10 @@ static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
     {"P2101", "winding_resistance_high", "throttle actuator motor circuit range/performance (winding resistance above its range)",
      200u, 1000u, DIAG_ACTION_NONE},
     {"P1A01", "winding_short", "winding resistance below its range (shorted turns suspected; project code)", 200u, 1000u,
+     DIAG_ACTION_LIMITED},
+    {"P2119", "friction_high", "throttle actuator control throttle body range/performance (friction level above its range)",
+     100u, 100u, DIAG_ACTION_NONE},
+    {"P1A02", "spring_weak", "return-spring preload below its range (limp-home position not assured; project code)", 100u, 100u,
      DIAG_ACTION_LIMITED},
 };
 
@@ -58,6 +64,7 @@ void diag_init(diag_t *d)
 {
     if (d != NULL) {
         memset(d, 0, sizeof *d);
+        d->last_confirmed = (uint8_t)DIAG_DTC_COUNT;
     }
 }
 
@@ -138,6 +145,7 @@ int diag_report(diag_t *d, diag_dtc_t dtc, diag_result_t res, const diag_snapsho
             c->freeze.value = value;
         }
         c->has_freeze = 1u;
+        d->last_confirmed = (uint8_t)dtc;
         if (c->confirmations < 0xFFFFFFFFu) {
             ++c->confirmations;
         }

@@ -53,6 +53,8 @@ typedef enum {
     DIAG_DTC_P2100,     /**< throttle actuator motor circuit open: no current under a large voltage */
     DIAG_DTC_P2101,     /**< throttle actuator motor circuit range/performance: winding resistance above its range */
     DIAG_DTC_P1A01,     /**< project code: winding resistance below its range (shorted turns) */
+    DIAG_DTC_P2119,     /**< throttle actuator control throttle body range/performance: friction level above its range */
+    DIAG_DTC_P1A02,     /**< project code: return-spring preload below its range (limp-home not assured) */
     DIAG_DTC_COUNT      /**< number of codes (not a code) */
 } diag_dtc_t;
 
@@ -135,6 +137,7 @@ typedef struct {
     uint32_t q_head;         /**< index of the oldest event */
     uint32_t q_count;        /**< events waiting */
     uint32_t events_lost;    /**< events dropped because the queue was full */
+    uint8_t last_confirmed;  /**< the code confirmed most recently (diag_dtc_t; DIAG_DTC_COUNT: none since diag_init()) */
 } diag_t;
 
 /** Row of the code table; NULL for an invalid code. */
@@ -143,7 +146,8 @@ const diag_dtc_info_t *diag_dtc_info(diag_dtc_t dtc);
 /** "pending", "confirmed", "healed"; "?" if invalid. */
 const char *diag_event_name(diag_event_kind_t kind);
 
-/** Every code idle, no freeze frames, queue empty, nothing lost. Does nothing when d is NULL. */
+/** Every code idle, no freeze frames, queue empty, nothing lost, no code confirmed yet
+ *  (last_confirmed = DIAG_DTC_COUNT). Does nothing when d is NULL. */
 void diag_init(diag_t *d);
 
 /**

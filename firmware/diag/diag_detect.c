@@ -26,6 +26,11 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->r_low_frac = TV_R(0.65);
     cfg->r_sigma_max_frac = TV_R(0.05);
     cfg->r_excite_A = TV_R(0.4);
+    cfg->friction_high_rel = TV_R(1.7);
+    cfg->friction_sigma_max = TV_R(0.05);
+    cfg->preload_low_rel = TV_R(0.4);
+    cfg->preload_sigma_max = TV_R(0.03);
+    cfg->param_excite_rad_s = TV_R(0.5);
 }
 
 int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
@@ -37,7 +42,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         const tv_real_t all[] = {cfg->tps_disagree_rad, cfg->tps_vote_frac, cfg->jam_error_rad, cfg->jam_u_min_V,
                                  cfg->jam_break_factor, cfg->jam_still_rad, cfg->open_u_min_V,  cfg->open_i_max_A,
                                  cfg->r_high_frac,      cfg->r_low_frac,    cfg->r_sigma_max_frac,
-                                 cfg->r_excite_A};
+                                 cfg->r_excite_A,       cfg->friction_high_rel, cfg->friction_sigma_max,
+                                 cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -48,7 +54,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
             }
         }
     }
-    if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0))) {
+    if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0)) ||
+        !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0))) {
         return TV_ERR_CONFIG;
     }
     memset(dd, 0, sizeof *dd);
@@ -169,4 +176,28 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
     ratio = r_est_ohm / r_nom_ohm;
     (void)diag_report(d, DIAG_DTC_P2101, ratio > dd->cfg.r_high_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
     (void)diag_report(d, DIAG_DTC_P1A01, ratio < dd->cfg.r_low_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
+}
+
+void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_s, tv_real_t friction_rel,
+                      tv_real_t friction_sigma, tv_real_t preload_rel, tv_real_t preload_sigma, const diag_snapshot_t *snap)
+{
+    if (dd == NULL || d == NULL || snap == NULL) {
+        return;
+    }
+    if (++dd->param_tick < DIAG_PARAM_DECIM) {
+        return;
+    }
+    dd->param_tick = 0u;
+    if (!active || !TV_IS_FINITE(w_rad_s) || TV_FABS(w_rad_s) < dd->cfg.param_excite_rad_s) {
+        return;
+    }
+    if (TV_IS_FINITE(friction_rel) && TV_IS_FINITE(friction_sigma) && friction_sigma > TV_R(0.0) &&
+        friction_sigma <= dd->cfg.friction_sigma_max) {
+        (void)diag_report(d, DIAG_DTC_P2119, friction_rel > dd->cfg.friction_high_rel ? DIAG_FAIL : DIAG_PASS, snap,
+                          friction_rel);
+    }
+    if (TV_IS_FINITE(preload_rel) && TV_IS_FINITE(preload_sigma) && preload_sigma > TV_R(0.0) &&
+        preload_sigma <= dd->cfg.preload_sigma_max) {
+        (void)diag_report(d, DIAG_DTC_P1A02, preload_rel < dd->cfg.preload_low_rel ? DIAG_FAIL : DIAG_PASS, snap, preload_rel);
+    }
 }

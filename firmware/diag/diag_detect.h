@@ -34,6 +34,16 @@
  *     20 ms of drive) and its sigma is below r_sigma_max_frac * R: above r_high_frac * R fails
  *     P2101, below r_low_frac * R fails P1A01, in between passes both. R is the model's nominal
  *     resistance.
+ *   ADAPTED MECHANICS (P2119 friction above, P1A02 spring preload below its range), the
+ *     estimator's friction level 1 + f and preload 1 + m against their healthy ranges, checked
+ *     every DIAG_PARAM_DECIM steps (the estimates move over seconds: a 1 kHz check would repeat
+ *     itself) while the model is the one in service (not during stop learning), the estimator
+ *     ran, and the estimated plate speed is at least param_excite_rad_s (the estimator updates f
+ *     and m only while the plate slides; at rest they are frozen and the check waits). Friction:
+ *     while sigma(f) <= friction_sigma_max, above friction_high_rel fails P2119, else passes.
+ *     Preload: while sigma(m) <= preload_sigma_max, below preload_low_rel fails P1A02, else passes.
+ *     The bounds lie outside the healthy population (friction +-30 %, preload +-20 % around the
+ *     class nominal, plant_draw.h) with the estimation error measured on it (README).
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -51,6 +61,9 @@ extern "C" {
 
 /** Samples over which the jam check measures the plate's motion (8 ms at 1 kHz). */
 #define DIAG_JAM_WINDOW 8u
+
+/** The adapted-mechanics check runs every this many calls of diag_param_check() (10 ms at 1 kHz). */
+#define DIAG_PARAM_DECIM 10u
 
 /** Detector thresholds (diag_detect_config_default()). */
 typedef struct {
@@ -71,6 +84,14 @@ typedef struct {
     tv_real_t r_low_frac;       /**< R + dR below this times R fails P1A01 [-], (0, 1); default 0.65 */
     tv_real_t r_sigma_max_frac; /**< the check runs while sigma(dR) <= this times R [-], > 0; default 0.05 */
     tv_real_t r_excite_A;       /**< ... and the measured |current| is at least this [A], > 0; default 0.4 */
+    tv_real_t friction_high_rel;  /**< friction level 1 + f above this fails P2119 [-], > 1; default 1.7 (the
+                                       population's friction spreads +-30 %) */
+    tv_real_t friction_sigma_max; /**< the friction check runs while sigma(f) <= this [-], > 0; default 0.05 */
+    tv_real_t preload_low_rel;    /**< preload 1 + m below this fails P1A02 [-], (0, 1); default 0.4 (the
+                                       population's preload spreads +-20 %) */
+    tv_real_t preload_sigma_max;  /**< the preload check runs while sigma(m) <= this [-], > 0; default 0.03 */
+    tv_real_t param_excite_rad_s; /**< ... and both only while the estimated |velocity| is at least this
+                                       [rad/s], > 0; default 0.5 (the estimator's own f / m update threshold) */
 } diag_detect_config_t;
 
 /** Detector state. Allocate statically; diag_detect_init() before use. */
@@ -80,6 +101,7 @@ typedef struct {
     uint8_t hist_n;        /**< valid entries of phi_hist */
     uint8_t hist_i;        /**< next slot of phi_hist */
     uint8_t tps_named;     /**< 0: no track named; 1 or 2: the track the vote named (kept out) */
+    uint8_t param_tick;    /**< calls of diag_param_check() since its last check, 0..DIAG_PARAM_DECIM - 1 */
 } diag_detect_t;
 
 /** Defaults (see diag_detect_config_t). Does nothing when cfg is NULL. */
@@ -147,6 +169,21 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
  */
 void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t current_A, tv_real_t r_est_ohm,
                            tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, const diag_snapshot_t *snap);
+
+/**
+ * The adapted-mechanics check (see the file comment); reports P2119, P1A02. Call once per step:
+ * the check runs at every DIAG_PARAM_DECIM-th call (the first check at the DIAG_PARAM_DECIM-th).
+ * @param active           1 when the estimator ran this step and the model is the one in service
+ *                         (not during stop learning)
+ * @param w_rad_s          the estimated velocity [rad/s]
+ * @param friction_rel     the estimator's friction level 1 + f [-]
+ * @param friction_sigma   its standard deviation [-] (0: no such state: not run)
+ * @param preload_rel      the estimator's preload 1 + m [-]
+ * @param preload_sigma    its standard deviation [-] (0: no such state: not run)
+ * @param snap             the step's snapshot (value in the freeze frame: 1 + f, or 1 + m)
+ */
+void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_s, tv_real_t friction_rel,
+                      tv_real_t friction_sigma, tv_real_t preload_rel, tv_real_t preload_sigma, const diag_snapshot_t *snap);
 
 #ifdef __cplusplus
 }

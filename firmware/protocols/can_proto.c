@@ -104,6 +104,44 @@ static const can_proto_signal_t s_sig_time[] = {
     {"SampleTime", 16u, 32u, 0u, 1.0f, 0.0f, 0.0f, 4294967295.0f, "us"},
 };
 
+static const can_proto_signal_t s_sig_health_1[] = {
+    SIG_CRC,
+    SIG_COUNTER,
+    {"ResistanceEst", 16u, 14u, 0u, 0.001f, 0.0f, 0.0f, 16.383f, "ohm"},
+    {"ResistanceSigma", 30u, 10u, 0u, 0.001f, 0.0f, 0.0f, 1.023f, "ohm"},
+    {"FrictionRel", 40u, 12u, 0u, 0.0005f, 0.0f, 0.0f, 2.0475f, ""},
+    {"FrictionRelSigma", 52u, 12u, 0u, 0.0002f, 0.0f, 0.0f, 0.819f, ""},
+};
+static const can_proto_signal_t s_sig_health_2[] = {
+    SIG_CRC,
+    SIG_COUNTER,
+    {"PreloadRel", 16u, 12u, 0u, 0.0005f, 0.0f, 0.0f, 2.0475f, ""},
+    {"PreloadRelSigma", 28u, 10u, 0u, 0.0002f, 0.0f, 0.0f, 0.2046f, ""},
+    {"StopClosed", 38u, 12u, 0u, 0.0001f, -0.4f, -0.4f, 0.0095f, "rad"},
+    {"StopOpen", 50u, 13u, 0u, 0.0001f, 1.0f, 1.0f, 1.8191f, "rad"},
+};
+static const can_proto_signal_t s_sig_diag[] = {
+    SIG_CRC,
+    SIG_COUNTER,
+    {"DtcCount", 12u, 4u, 0u, 1.0f, 0.0f, 0.0f, 15.0f, ""},
+    {"LastDtc", 16u, 4u, 0u, 1.0f, 0.0f, 0.0f, 15.0f, ""},
+    {"LastDtcStatus", 20u, 2u, 0u, 1.0f, 0.0f, 0.0f, 3.0f, ""},
+    {"Action", 22u, 2u, 0u, 1.0f, 0.0f, 0.0f, 3.0f, ""},
+    {"LastDtcConfirmations", 24u, 8u, 0u, 1.0f, 0.0f, 0.0f, 255.0f, ""},
+    {"ConfirmedMask", 32u, 16u, 0u, 1.0f, 0.0f, 0.0f, 65535.0f, ""},
+    {"LastDtcTime", 48u, 16u, 0u, 0.1f, 0.0f, 0.0f, 6553.5f, "s"},
+};
+static const can_proto_signal_t s_sig_diag_freeze[] = {
+    SIG_CRC,
+    SIG_COUNTER,
+    {"FreezeDtc", 12u, 4u, 0u, 1.0f, 0.0f, 0.0f, 15.0f, ""},
+    {"FreezeAngle", 16u, 12u, 0u, 0.001f, -0.5f, -0.5f, 3.595f, "rad"},
+    {"FreezeVelocity", 28u, 12u, 1u, 0.05f, 0.0f, -102.4f, 102.35f, "rad/s"},
+    {"FreezeDuty", 40u, 8u, 1u, 0.01f, 0.0f, -1.28f, 1.27f, ""},
+    {"FreezeSupply", 48u, 8u, 0u, 0.1f, 0.0f, 0.0f, 25.5f, "V"},
+    {"FreezeCurrent", 56u, 8u, 1u, 0.1f, 0.0f, -12.8f, 12.7f, "A"},
+};
+
 static const can_proto_signal_t s_sig_ecu_cpu[] = {
     SIG_CRC,
     SIG_COUNTER,
@@ -127,12 +165,24 @@ static const can_proto_msg_t s_msgs[CAN_PROTO_N_CMD + CAN_PROTO_N_TX + CAN_PROTO
     MSG(CAN_PROTO_ID_CMD_STATS, "TV_CMD_STATS", 0u, s_sig_cmd_stats),
     MSG(CAN_PROTO_ID_EKF_STATS, "TV_EKF_STATS", 0u, s_sig_ekf_stats),
     MSG(CAN_PROTO_ID_TIME, "TV_TIME", 0u, s_sig_time),
+    MSG(CAN_PROTO_ID_HEALTH_1, "TV_HEALTH_1", 0u, s_sig_health_1),
+    MSG(CAN_PROTO_ID_HEALTH_2, "TV_HEALTH_2", 0u, s_sig_health_2),
+    MSG(CAN_PROTO_ID_DIAG, "TV_DIAG", 0u, s_sig_diag),
+    MSG(CAN_PROTO_ID_DIAG_FREEZE, "TV_DIAG_FREEZE", 0u, s_sig_diag_freeze),
     MSG(CAN_PROTO_ID_ECU_CPU, "TV_ECU_CPU", 0u, s_sig_ecu_cpu),
 };
 
 /* First transmission of each telemetry frame after the time base [ms]: staggered, except
- * TV_TIME, which goes out in the same tick as TV_EST_STATE. */
-static const uint8_t s_tx_offset_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 0u};
+ * TV_TIME, which goes out in the same tick as TV_EST_STATE. With the default periods (10 ms for
+ * 0..4 and TV_TIME, 100 ms for the others) no two ids share a tick: the 10 ms frames occupy 0..4
+ * mod 10, the 100 ms ones 5..9, 18 and 19 mod 100. */
+static const uint8_t s_tx_offset_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 0u, 8u, 9u, 18u, 19u};
+/* Transmission order within a tick: CAN_PROTO_TX_* order, TV_TIME last (it pairs with the
+ * TV_EST_STATE before it). */
+static const uint8_t s_tx_order[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 9u, 10u, 11u, 12u, 8u};
+
+/* The code index fields are 4 bits (CAN_PROTO_DTC_NONE = 15 means none) and the mask 16 bits. */
+typedef char can_proto_dtc_fits_t[(unsigned)DIAG_DTC_COUNT <= CAN_PROTO_DTC_NONE ? 1 : -1];
 
 /* Tolerance of the receive range check, in counts: accepts min/max themselves despite the
  * float rounding of raw * scale, and nothing one count beyond. */
@@ -424,6 +474,22 @@ void can_proto_telemetry_from_app(const app_t *app, const app_output_t *out, can
         tm->mode = (uint8_t)app->cfg.control.mode;
         tm->ekf_rejected = app->ekf.n_rejected;
     }
+    tm->last_dtc = CAN_PROTO_DTC_NONE;
+    tm->freeze_dtc = CAN_PROTO_DTC_NONE;
+    if (app != NULL && app->diag.last_confirmed < (uint8_t)DIAG_DTC_COUNT) {
+        const diag_code_state_t *c = &app->diag.code[app->diag.last_confirmed];
+        const diag_freeze_t *fz = &c->freeze;
+        tm->last_dtc = app->diag.last_confirmed;
+        tm->last_dtc_status = c->confirmed ? 1u : 2u;
+        tm->last_dtc_confirmations = (uint8_t)(c->confirmations < 255u ? c->confirmations : 255u);
+        tm->last_dtc_time_s = fz->t_us >= app->t0_us ? (float)(fz->t_us - app->t0_us) * 1e-6f : 0.0f;
+        tm->freeze_dtc = app->diag.last_confirmed;
+        tm->freeze_angle_rad = (float)fz->x[TVM_PHI];
+        tm->freeze_velocity_rad_s = (float)fz->x[TVM_W];
+        tm->freeze_duty = (float)fz->duty;
+        tm->freeze_supply_V = (float)fz->supply_V;
+        tm->freeze_current_A = (float)fz->x[TVM_I];
+    }
     if (out == NULL) {
         return;
     }
@@ -441,6 +507,25 @@ void can_proto_telemetry_from_app(const app_t *app, const app_output_t *out, can
     tm->bridge_enable = out->bridge_enable != 0u ? 1u : 0u;
     tm->ekf_ok = out->ekf_status == TV_OK && out->innov.n_used > 0u ? 1u : 0u;
     tm->channels_used = out->innov.n_used > 3u ? 3u : out->innov.n_used;
+    tm->r_est_ohm = (float)out->r_est_ohm;
+    tm->r_sigma_ohm = (float)out->r_sigma_ohm;
+    tm->friction_rel = (float)out->friction_rel;
+    tm->friction_rel_sigma = (float)out->friction_rel_sigma;
+    tm->preload_rel = (float)out->preload_rel;
+    tm->preload_rel_sigma = (float)out->preload_rel_sigma;
+    tm->stop_closed_rad = (float)out->stop_closed_rad;
+    tm->stop_open_rad = (float)out->stop_open_rad;
+    {
+        uint32_t mask = out->dtc_confirmed & 0xFFFFu;
+        uint8_t n = 0u;
+        tm->dtc_mask = (uint16_t)mask;
+        while (mask != 0u) { /* at most 16 iterations */
+            mask &= mask - 1u;
+            ++n;
+        }
+        tm->dtc_count = n;
+        tm->dtc_action = out->dtc_action;
+    }
 }
 
 /* Physical values of one telemetry frame, in signal order. */
@@ -500,6 +585,39 @@ static int telemetry_phys(uint32_t id, const can_proto_telemetry_t *tm, float *p
         return TV_OK;
     case CAN_PROTO_ID_TIME:
         p[2] = 0.0f; /* written as an integer by can_proto_encode_telemetry() */
+        return TV_OK;
+    case CAN_PROTO_ID_HEALTH_1:
+        p[2] = tm->r_est_ohm;
+        p[3] = tm->r_sigma_ohm;
+        p[4] = tm->friction_rel;
+        p[5] = tm->friction_rel_sigma;
+        return TV_OK;
+    case CAN_PROTO_ID_HEALTH_2:
+        p[2] = tm->preload_rel;
+        p[3] = tm->preload_rel_sigma;
+        p[4] = tm->stop_closed_rad;
+        p[5] = tm->stop_open_rad;
+        return TV_OK;
+    case CAN_PROTO_ID_DIAG:
+        p[2] = (float)tm->dtc_count;
+        p[3] = (float)tm->last_dtc;
+        p[4] = (float)tm->last_dtc_status;
+        p[5] = (float)tm->dtc_action;
+        p[6] = (float)tm->last_dtc_confirmations;
+        p[7] = (float)tm->dtc_mask;
+        p[8] = tm->last_dtc_time_s;
+        return TV_OK;
+    case CAN_PROTO_ID_DIAG_FREEZE:
+        p[2] = (float)tm->freeze_dtc;
+        if (tm->freeze_dtc >= CAN_PROTO_DTC_NONE) {
+            p[3] = -0.5f; /* raw 0: no frame */
+            return TV_OK;
+        }
+        p[3] = tm->freeze_angle_rad;
+        p[4] = tm->freeze_velocity_rad_s;
+        p[5] = tm->freeze_duty;
+        p[6] = tm->freeze_supply_V;
+        p[7] = tm->freeze_current_A;
         return TV_OK;
     default:
         return TV_ERR_RANGE;
@@ -708,6 +826,7 @@ size_t can_proto_node_transmit(can_proto_node_t *node, const app_t *app, const a
 {
     can_proto_telemetry_t tm;
     size_t n = 0;
+    size_t i;
     size_t k;
     if (node == NULL || app == NULL || frames == NULL) {
         return 0;
@@ -729,8 +848,9 @@ size_t can_proto_node_transmit(can_proto_node_t *node, const app_t *app, const a
     tm.rx = node->stats;
     tm.nis_mean = node->nis_n > 0u ? node->nis_sum / (float)node->nis_n : 0.0f;
     tm.corrections = node->nis_n;
-    for (k = 0; k < CAN_PROTO_N_TX; ++k) {
-        const uint64_t period_us = (uint64_t)node->cfg.period_ms[k] * 1000u;
+    for (i = 0; i < CAN_PROTO_N_TX; ++i) {
+        const uint64_t period_us = (uint64_t)node->cfg.period_ms[s_tx_order[i]] * 1000u;
+        k = s_tx_order[i];
         if (period_us == 0u || t_us < node->tx_due_us[k]) {
             continue;
         }

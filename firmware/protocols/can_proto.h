@@ -8,7 +8,7 @@
  *
  * FRAMES. Classic CAN, 11-bit identifiers, DLC 8 for every frame. Signals are little-endian
  * (Intel) unsigned or two's-complement integers: physical = raw * scale + offset (offset is 0
- * for every signal here). Bit positions count from bit 0 = LSB of data[0] (DBC "@1" numbering).
+ * except for StopClosed, StopOpen and FreezeAngle, whose ranges do not start at 0). Bit positions count from bit 0 = LSB of data[0] (DBC "@1" numbering).
  *
  *   id     name                 dir      default period
  *   0x100  TV_CMD_CONTROL       bench->TV  every 10..50 ms (the heartbeat; see TIMEOUT)
@@ -22,6 +22,10 @@
  *   0x186  TV_CMD_STATS         TV->bench  100 ms
  *   0x187  TV_EKF_STATS         TV->bench  100 ms
  *   0x188  TV_TIME              TV->bench  10 ms, always in the same tick as TV_EST_STATE
+ *   0x189  TV_HEALTH_1          TV->bench  100 ms (condition monitoring: winding, friction)
+ *   0x18A  TV_HEALTH_2          TV->bench  100 ms (condition monitoring: spring preload, stops)
+ *   0x18B  TV_DIAG              TV->bench  100 ms (diagnostic codes: count, last confirmed, action)
+ *   0x18C  TV_DIAG_FREEZE       TV->bench  100 ms (freeze frame of the last confirmed code)
  *
  * Every frame starts with the same protection header (AUTOSAR E2E profile 1 layout):
  *   bits 0..7   CRC      CRC-8 SAE J1850: polynomial 0x1D, initial value 0xFF, final XOR 0xFF,
@@ -91,6 +95,38 @@
  *     SampleTime    16|32       1 us             [0, 4294967295] when the inputs of this tick's step
  *                                                were read, platform clock since start (wraps after
  *                                                71.6 min); bits 12..15 and 48..63 reserved
+ *   TV_HEALTH_1 0x189 (condition monitoring, the estimator's adapted parameters of this step;
+ *   resolution = scale; bits 12..15 reserved; a value beyond its field saturates)
+ *     ResistanceEst     16|14    0.001 ohm        [0, 16.383]  winding resistance R + dR (app_output_t::r_est_ohm)
+ *     ResistanceSigma   30|10    0.001 ohm        [0, 1.023]   its standard deviation (saturates: the
+ *                                                              resistance check needs sigma <= 0.05 R anyway)
+ *     FrictionRel       40|12    0.0005           [0, 2.0475]  friction level relative to the model, 1 + f
+ *                                                              (the filter holds |f| < 1)
+ *     FrictionRelSigma  52|12    0.0002           [0, 0.819]   its standard deviation
+ *   TV_HEALTH_2 0x18A (bits 12..15 and 63 reserved)
+ *     PreloadRel        16|12    0.0005           [0, 2.0475]  spring preload relative to the model, 1 + m
+ *     PreloadRelSigma   28|10    0.0002           [0, 0.2046]  its standard deviation
+ *     StopClosed        38|12    0.0001 rad, offset -0.4  [-0.4, 0.0095]  closed-stop contact onset in use
+ *                                                              (stop learning accepts -0.30..-0.02)
+ *     StopOpen          50|13    0.0001 rad, offset 1.0   [1.0, 1.8191]   open-stop contact onset in use
+ *                                                              (stop learning accepts 1.10..1.70)
+ *   TV_DIAG 0x18B (diagnostic codes, firmware/diag/diag.h; code index = diag_dtc_t, 15 = none)
+ *     DtcCount          12|4     1                [0, 15]  codes confirmed now
+ *     LastDtc           16|4     1                [0, 15]  the code confirmed most recently since start (15: none)
+ *     LastDtcStatus     20|2     1                0 none, 1 confirmed (active), 2 history (healed or cleared)
+ *     Action            22|2     1                diag_action_t in force: 0 none, 1 limited authority, 2 safe state
+ *     LastDtcConfirmations 24|8  1                [0, 255] times LastDtc was confirmed since start (saturates)
+ *     ConfirmedMask     32|16    1                bit k: code k confirmed now
+ *     LastDtcTime       48|16    0.1 s            [0, 6553.5] time of LastDtc's last confirmation since
+ *                                                 the application's first step (saturates)
+ *   TV_DIAG_FREEZE 0x18C (the freeze frame of LastDtc's last confirmation: the estimate before the
+ *   confirming sample, the supply and the duty of the period that ended)
+ *     FreezeDtc         12|4     1                [0, 15]  the code the frame belongs to (15: none, all 0)
+ *     FreezeAngle       16|12    0.001 rad, offset -0.5  [-0.5, 3.595]
+ *     FreezeVelocity    28|12 s  0.05 rad/s       [-102.4, 102.35]
+ *     FreezeDuty        40|8 s   0.01             [-1.28, 1.27]
+ *     FreezeSupply      48|8     0.1 V            [0, 25.5]
+ *     FreezeCurrent     56|8 s   0.1 A            [-12.8, 12.7]  estimated winding current
  *
  * Telemetry values beyond their representable range saturate to the nearest end (a NaN is sent
  * as 0). Commands are never clamped: a value outside its valid range rejects the whole frame.
@@ -155,6 +191,10 @@ extern "C" {
 #define CAN_PROTO_ID_CMD_STATS 0x186u
 #define CAN_PROTO_ID_EKF_STATS 0x187u
 #define CAN_PROTO_ID_TIME 0x188u
+#define CAN_PROTO_ID_HEALTH_1 0x189u
+#define CAN_PROTO_ID_HEALTH_2 0x18Au
+#define CAN_PROTO_ID_DIAG 0x18Bu
+#define CAN_PROTO_ID_DIAG_FREEZE 0x18Cu
 /** Platform frame of the Cortex-M4F ECU: CPU load of the control step (DWT cycles). Listed in
  *  the frame table and the DBC, but not scheduled by the node: the ECU sends it itself every
  *  CAN_PROTO_ECU_CPU_PERIOD_MS with can_proto_encode_ecu_cpu(). */
@@ -171,11 +211,13 @@ extern "C" {
 
 /** Number of command frames and of telemetry frames. */
 #define CAN_PROTO_N_CMD 2u
-#define CAN_PROTO_N_TX 9u
+#define CAN_PROTO_N_TX 13u
 /** Platform frames in the table after the telemetry (TV_ECU_CPU). */
 #define CAN_PROTO_N_PLATFORM 1u
 /** Most signals in one frame, CRC and counter included. */
 #define CAN_PROTO_MAX_SIGNALS 12u
+/** Code index sent in LastDtc / FreezeDtc when there is none (diag_dtc_t values are below it). */
+#define CAN_PROTO_DTC_NONE 15u
 /** Frames a platform should take from its receive queue per tick (bounds the tick's work). */
 #define CAN_PROTO_RX_MAX_PER_TICK 16u
 /** Largest command timeout accepted [ms]. */
@@ -191,7 +233,11 @@ enum {
     CAN_PROTO_TX_LOOP = 5,
     CAN_PROTO_TX_CMD_STATS = 6,
     CAN_PROTO_TX_EKF_STATS = 7,
-    CAN_PROTO_TX_TIME = 8
+    CAN_PROTO_TX_TIME = 8,
+    CAN_PROTO_TX_HEALTH_1 = 9,
+    CAN_PROTO_TX_HEALTH_2 = 10,
+    CAN_PROTO_TX_DIAG = 11,
+    CAN_PROTO_TX_DIAG_FREEZE = 12
 };
 
 /** One signal of a frame, as in the DBC: physical = raw * scale + offset. */
@@ -275,6 +321,29 @@ typedef struct {
     float nis_mean;        /**< mean NIS over the TV_EKF_STATS window [-] */
     uint32_t corrections;  /**< corrections in that window */
     uint32_t ekf_rejected; /**< filter calls rejected since start */
+    /* condition monitoring (TV_HEALTH_1, TV_HEALTH_2): app_output_t's adapted parameters */
+    float r_est_ohm;          /**< winding resistance R + dR [ohm] */
+    float r_sigma_ohm;        /**< its standard deviation [ohm] */
+    float friction_rel;       /**< friction level relative to the model, 1 + f [-] */
+    float friction_rel_sigma; /**< its standard deviation [-] */
+    float preload_rel;        /**< spring preload relative to the model, 1 + m [-] */
+    float preload_rel_sigma;  /**< its standard deviation [-] */
+    float stop_closed_rad;    /**< closed-stop contact onset in use [rad] */
+    float stop_open_rad;      /**< open-stop contact onset in use [rad] */
+    /* diagnostic codes (TV_DIAG, TV_DIAG_FREEZE) */
+    uint8_t dtc_count;        /**< codes confirmed now, 0..15 */
+    uint16_t dtc_mask;        /**< bit k: code k confirmed now */
+    uint8_t dtc_action;       /**< diag_action_t in force, 0..2 */
+    uint8_t last_dtc;         /**< code confirmed most recently (diag_dtc_t), CAN_PROTO_DTC_NONE when none */
+    uint8_t last_dtc_status;  /**< 0 none, 1 confirmed now, 2 history (healed or cleared) */
+    uint8_t last_dtc_confirmations; /**< times last_dtc was confirmed since start (saturates at 255) */
+    float last_dtc_time_s;    /**< its last confirmation, since the application's first step [s] */
+    uint8_t freeze_dtc;       /**< the code of the freeze frame below (= last_dtc) */
+    float freeze_angle_rad;   /**< freeze frame: estimated angle [rad] */
+    float freeze_velocity_rad_s; /**< freeze frame: estimated velocity [rad/s] */
+    float freeze_duty;        /**< freeze frame: duty of the period that ended [-] */
+    float freeze_supply_V;    /**< freeze frame: measured supply [V] */
+    float freeze_current_A;   /**< freeze frame: estimated current [A] */
 } can_proto_telemetry_t;
 
 /** Command link state. */
@@ -382,8 +451,10 @@ uint8_t can_proto_frame_counter(const hal_can_frame_t *frame);
 
 /**
  * Fill the step-related fields of *tm from the application and its last output: estimate,
- * sigma, innovations, NIS, duty, measurements, mode, faults, flags, ekf_rejected. Loop, rx and
- * window statistics and the link flags are left as they are (the node fills them).
+ * sigma, innovations, NIS, duty, measurements, mode, faults, flags, ekf_rejected, the health
+ * indicators (adapted parameters, stops) and the diagnostic codes (confirmed codes and action of
+ * the output; the last confirmed code and its freeze frame from app->diag). Loop, rx and window
+ * statistics and the link flags are left as they are (the node fills them).
  */
 void can_proto_telemetry_from_app(const app_t *app, const app_output_t *out, can_proto_telemetry_t *tm);
 
@@ -404,7 +475,8 @@ int can_proto_encode_ecu_cpu(uint32_t cycles_max, uint32_t cycles_mean, uint32_t
 
 /* ---- the node ----------------------------------------------------------------------------- */
 
-/** Defaults: timeout 100 ms, max counter delta 2, periods 10 ms (0x180..0x184, 0x188), 100 ms (0x185..0x187). */
+/** Defaults: timeout 100 ms, max counter delta 2, periods 10 ms (0x180..0x184, 0x188), 100 ms (0x185..0x187,
+ *  0x189..0x18C). */
 void can_proto_config_default(can_proto_config_t *cfg);
 
 /**
@@ -433,8 +505,11 @@ int can_proto_node_receive(can_proto_node_t *node, app_t *app, const hal_can_fra
 void can_proto_node_update(can_proto_node_t *node, app_t *app, const app_output_t *out, uint64_t t_us);
 
 /**
- * The telemetry frames due at t_us, encoded into frames[0..n-1], in CAN_PROTO_TX_* order. The
- * first call sets the time base; frame k is first sent k ms later (staggered), except TV_TIME,
+ * The telemetry frames due at t_us, encoded into frames[0..n-1], in CAN_PROTO_TX_* order except
+ * TV_TIME, which comes last (after the other frames of its tick). The
+ * first call sets the time base; frame k (k <= CAN_PROTO_TX_EKF_STATS) is first sent k ms later
+ * (staggered), TV_HEALTH_1, TV_HEALTH_2, TV_DIAG, TV_DIAG_FREEZE at 8, 9, 18, 19 ms (so with the
+ * default periods no two ids share a tick), except TV_TIME,
  * which is scheduled like TV_EST_STATE (offset 0, and its own period_ms: keep them equal to
  * pair them); then every period_ms. A late call sends each due frame once (no catching up).
  * @param loop       platform loop statistics (may be NULL: zeros)

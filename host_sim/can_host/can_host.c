@@ -109,6 +109,35 @@ int can_host_decode_telemetry(const hal_can_frame_t *frame, can_proto_telemetry_
         tm->loop.sample_time_us = (uint32_t)frame->data[2] | (uint32_t)frame->data[3] << 8 | (uint32_t)frame->data[4] << 16 |
                                   (uint32_t)frame->data[5] << 24 /* bits 16..47, Intel order */;
         break;
+    case CAN_PROTO_ID_HEALTH_1:
+        tm->r_est_ohm = p[2];
+        tm->r_sigma_ohm = p[3];
+        tm->friction_rel = p[4];
+        tm->friction_rel_sigma = p[5];
+        break;
+    case CAN_PROTO_ID_HEALTH_2:
+        tm->preload_rel = p[2];
+        tm->preload_rel_sigma = p[3];
+        tm->stop_closed_rad = p[4];
+        tm->stop_open_rad = p[5];
+        break;
+    case CAN_PROTO_ID_DIAG:
+        tm->dtc_count = (uint8_t)u32_of(p[2]);
+        tm->last_dtc = (uint8_t)u32_of(p[3]);
+        tm->last_dtc_status = (uint8_t)u32_of(p[4]);
+        tm->dtc_action = (uint8_t)u32_of(p[5]);
+        tm->last_dtc_confirmations = (uint8_t)u32_of(p[6]);
+        tm->dtc_mask = (uint16_t)u32_of(p[7]);
+        tm->last_dtc_time_s = p[8];
+        break;
+    case CAN_PROTO_ID_DIAG_FREEZE:
+        tm->freeze_dtc = (uint8_t)u32_of(p[2]);
+        tm->freeze_angle_rad = p[3];
+        tm->freeze_velocity_rad_s = p[4];
+        tm->freeze_duty = p[5];
+        tm->freeze_supply_V = p[6];
+        tm->freeze_current_A = p[7];
+        break;
     default: /* CAN_PROTO_ID_EKF_STATS, the only telemetry id left */
         tm->nis_mean = p[2];
         tm->corrections = u32_of(p[3]);
