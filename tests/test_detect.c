@@ -34,11 +34,7 @@ static int unit_config(uint64_t unit, plant_spread_t spread, plant_config_t *pc,
     if (learn->stop_learn_phase != (int)SL_DONE) {
         return 0;
     }
-    ac->model.phi_closed_rad = (tv_real_t)learn->stop_learn_onset_closed_rad;
-    ac->model.phi_open_rad = (tv_real_t)learn->stop_learn_onset_open_rad;
-    ac->model.k_stop_Nm_rad = (tv_real_t)learn->stop_learn_k;
-    ac->model.stop_exponent = (tv_real_t)learn->stop_learn_exponent;
-    ac->model.d_stop_Nm_s_rad = ac->stop_learn.lambda_per_k_s_rad * (tv_real_t)learn->stop_learn_k;
+    TV_CHECK_EQ_INT(sim_apply_stop_learning(learn, ac), TV_OK);
     return 1;
 }
 

@@ -301,11 +301,7 @@ static void learned_unit(plant_class_t cls, uint64_t unit, plant_config_t *pc, a
     opt.app = ac;
     TV_CHECK_EQ_INT(sim_run(&opt, &r), TV_OK);
     TV_CHECK_EQ_INT(r.stop_learn_phase, SL_DONE);
-    ac->model.phi_closed_rad = (tv_real_t)r.stop_learn_onset_closed_rad;
-    ac->model.phi_open_rad = (tv_real_t)r.stop_learn_onset_open_rad;
-    ac->model.k_stop_Nm_rad = (tv_real_t)r.stop_learn_k;
-    ac->model.stop_exponent = (tv_real_t)r.stop_learn_exponent;
-    ac->model.d_stop_Nm_s_rad = ac->stop_learn.lambda_per_k_s_rad * (tv_real_t)r.stop_learn_k;
+    TV_CHECK_EQ_INT(sim_apply_stop_learning(&r, ac), TV_OK);
 }
 
 static double unit_1020_open_steps_ratio(int with_dr, double *r_err_rel)

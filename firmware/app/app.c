@@ -228,16 +228,25 @@ const sl_t *app_stop_learn(const app_t *app)
     return app == NULL ? NULL : &app->sl;
 }
 
+/* The stops in use: the estimator's model and the position limits (cfg.model). */
+static int use_stops(app_t *app, tv_real_t phi_closed_rad, tv_real_t phi_open_rad)
+{
+    const int rc = ekf_set_stops(&app->ekf, phi_closed_rad, phi_open_rad);
+    if (rc == TV_OK) {
+        app->cfg.model.phi_closed_rad = phi_closed_rad;
+        app->cfg.model.phi_open_rad = phi_open_rad;
+    }
+    return rc;
+}
+
 int app_set_stops(app_t *app, tv_real_t phi_closed_rad, tv_real_t phi_open_rad)
 {
     int rc;
     if (app == NULL) {
         return TV_ERR_NULL;
     }
-    rc = ekf_set_stops(&app->ekf, phi_closed_rad, phi_open_rad);
+    rc = use_stops(app, phi_closed_rad, phi_open_rad);
     if (rc == TV_OK) {
-        app->cfg.model.phi_closed_rad = phi_closed_rad;
-        app->cfg.model.phi_open_rad = phi_open_rad;
         /* the new stops are the tracker's reference (its window is around them) */
         (void)st_reset(&app->st, &app->cfg.stop_track, phi_closed_rad, phi_open_rad);
     }
@@ -737,10 +746,8 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     if (app->cfg.control.mode != APP_MODE_STOP_LEARN && out->ekf_status == TV_OK && periods > 0u) {
         tv_real_t xs[TVM_NX];
         ekf_state(&app->ekf, xs);
-        if (st_step(&app->st, &app->ekf.model.p, angle, angle_ok, xs[TVM_I], xs[TVM_W]) &&
-            ekf_set_stops(&app->ekf, app->st.onset[ST_CLOSED], app->st.onset[ST_OPEN]) == TV_OK) {
-            app->cfg.model.phi_closed_rad = app->st.onset[ST_CLOSED];
-            app->cfg.model.phi_open_rad = app->st.onset[ST_OPEN];
+        if (st_step(&app->st, &app->ekf.model.p, angle, angle_ok, xs[TVM_I], xs[TVM_W])) {
+            (void)use_stops(app, app->st.onset[ST_CLOSED], app->st.onset[ST_OPEN]);
         }
     }
     if (angle_ok && periods > 0u) {

@@ -23,11 +23,6 @@ typedef tv_real_t mat3_t[TVM_NX][TVM_NX];
 #else
 #define TV_UNROLL_NA
 #endif
-#if defined(__GNUC__)
-#define TV_UNROLL2 _Pragma("GCC unroll 2")
-#else
-#define TV_UNROLL2
-#endif
 
 /* Matrices cross function boundaries as flat row-major pointers (C99 does not convert
  * T (*)[3] to const T (*)[3] implicitly). */

@@ -85,13 +85,10 @@ static int write_learned_params(const char *path, const sim_options_t *opt, cons
     if (!have_params) {
         params_init(&s_params, NULL);
     }
+    /* the routine's law (when it finished), then the stops in use at the end (tracked since) */
+    (void)sim_apply_stop_learning(r, &cfg);
     cfg.model.phi_closed_rad = (tv_real_t)r->stop_onset_rad[0];
     cfg.model.phi_open_rad = (tv_real_t)r->stop_onset_rad[1];
-    if (r->stop_learn_phase == (int)SL_DONE) {
-        cfg.model.k_stop_Nm_rad = (tv_real_t)r->stop_learn_k;
-        cfg.model.stop_exponent = (tv_real_t)r->stop_learn_exponent;
-        cfg.model.d_stop_Nm_s_rad = cfg.stop_learn.lambda_per_k_s_rad * (tv_real_t)r->stop_learn_k;
-    }
     f = fopen(path, "w");
     if (f == NULL) {
         fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, path, strerror(errno));

@@ -127,13 +127,7 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
     }
     l->err_closed_max = max_finite(l->err_closed_max, fabs(r.stop_learn_closed_rad - pc->phi_closed_rad));
     l->err_open_max = max_finite(l->err_open_max, fabs(r.stop_learn_open_rad - pc->phi_open_rad));
-    /* what the application puts into its estimator when the routine ends (app.c) */
-    ac->model.phi_closed_rad = (tv_real_t)r.stop_learn_onset_closed_rad;
-    ac->model.phi_open_rad = (tv_real_t)r.stop_learn_onset_open_rad;
-    ac->model.k_stop_Nm_rad = (tv_real_t)r.stop_learn_k;
-    ac->model.stop_exponent = (tv_real_t)r.stop_learn_exponent;
-    ac->model.d_stop_Nm_s_rad = ac->stop_learn.lambda_per_k_s_rad * (tv_real_t)r.stop_learn_k;
-    return TV_OK;
+    return sim_apply_stop_learning(&r, ac);
 }
 static params_t s_params;
 

@@ -71,3 +71,19 @@ int sim_app_config_for_unit(plant_class_t cls, const plant_config_t *unit, app_c
     cfg->ekf.r[EKF_CH_ANGLE] = (tv_real_t)(nominal.angle_noise_rad * nominal.angle_noise_rad + a * a / 12.0);
     return TV_OK;
 }
+
+int sim_apply_stop_learning(const sim_result_t *r, app_config_t *cfg)
+{
+    if (r == NULL || cfg == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (r->stop_learn_phase != (int)SL_DONE) {
+        return TV_ERR_CONFIG;
+    }
+    cfg->model.phi_closed_rad = (tv_real_t)r->stop_learn_onset_closed_rad;
+    cfg->model.phi_open_rad = (tv_real_t)r->stop_learn_onset_open_rad;
+    cfg->model.k_stop_Nm_rad = (tv_real_t)r->stop_learn_k;
+    cfg->model.stop_exponent = (tv_real_t)r->stop_learn_exponent;
+    cfg->model.d_stop_Nm_s_rad = cfg->stop_learn.lambda_per_k_s_rad * (tv_real_t)r->stop_learn_k;
+    return TV_OK;
+}

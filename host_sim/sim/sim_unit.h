@@ -12,6 +12,7 @@
 #include "app.h"
 #include "plant.h"
 #include "plant_draw.h"
+#include "sim.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -38,6 +39,14 @@ void sim_calib_from_plant(const plant_config_t *plant, app_calib_t *c);
  * @return TV_OK; TV_ERR_NULL; TV_ERR_RANGE (class); TV_ERR_CONFIG (Q).
  */
 int sim_app_config_for_unit(plant_class_t cls, const plant_config_t *unit, app_config_t *cfg);
+
+/**
+ * What the start-up stop learning of run r (scenario stop_learn) learned, put into cfg's model as
+ * the application puts it into its estimator when the routine ends (app.c): the fitted contact
+ * onsets as the stops, the contact law (k, exponent) and its damping lambda_per_k x k.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG when the routine did not finish (SL_DONE), cfg unchanged.
+ */
+int sim_apply_stop_learning(const sim_result_t *r, app_config_t *cfg);
 
 #ifdef __cplusplus
 }
