@@ -13,6 +13,7 @@
 #include "app_tick.h"
 #include "sim.h"
 #include "sim_hal.h"
+#include "sim_internal.h"
 #include "tv_status.h"
 #include "tv_test.h"
 
@@ -415,6 +416,20 @@ static void test_same_seed_reproduces_identical_metrics(void)
     TV_CHECK(c.rmse[SIM_EST_APP][1] != a.rmse[SIM_EST_APP][1]); /* another seed, other noise */
 }
 
+static void test_drive_targets(void)
+{
+    /* the driving cycle's pedal positions, worked out by hand from the table (0.15, 0.45, ...,
+     * 0.75 rad, one per second, ramps at 3 rad/s) */
+    TV_CHECK_NEAR(sim_target_rad(SIM_SCN_DRIVE, 0.0), 0.15, 1e-12);
+    TV_CHECK_NEAR(sim_target_rad(SIM_SCN_DRIVE, 0.5), 0.15, 1e-12);
+    TV_CHECK_NEAR(sim_target_rad(SIM_SCN_DRIVE, 1.05), 0.30, 1e-9);  /* 0.15 + 3 * 0.05 */
+    TV_CHECK_NEAR(sim_target_rad(SIM_SCN_DRIVE, 1.2), 0.45, 1e-12);  /* reached after 0.1 s */
+    TV_CHECK_NEAR(sim_target_rad(SIM_SCN_DRIVE, 5.2), 0.80, 1e-9);   /* 0.20 -> 1.20: 0.20 + 3 * 0.2 */
+    TV_CHECK_NEAR(sim_target_rad(SIM_SCN_DRIVE, 6.1), 0.90, 1e-9);   /* 1.20 -> 0.60 descending: 1.20 - 0.3 */
+    TV_CHECK_NEAR(sim_target_rad(SIM_SCN_DRIVE, 9.9), 0.75, 1e-12);
+    TV_CHECK_NEAR(sim_target_rad(SIM_SCN_DRIVE, 10.1), 0.45, 1e-9);  /* repeating: 0.75 -> 0.15 */
+}
+
 static void test_all_scenarios_run(void)
 {
     int s;
@@ -617,6 +632,7 @@ int main(void)
     TV_TEST_RUN(test_tracking_figures_of_a_synthetic_step);
     TV_TEST_RUN(test_short_default_scenario_runs_clean_with_finite_metrics);
     TV_TEST_RUN(test_same_seed_reproduces_identical_metrics);
+    TV_TEST_RUN(test_drive_targets);
     TV_TEST_RUN(test_all_scenarios_run);
     TV_TEST_RUN(test_stuck_plate_stays_at_rest_with_the_bridge_off);
     TV_TEST_RUN(test_missing_samples_are_counted);

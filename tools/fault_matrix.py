@@ -1,77 +1,215 @@
 #!/usr/bin/python3
-"""Summarise a fault matrix (tools/run_fault_matrix.sh): one population runs CSV per injected
-fault, plus the healthy one, into a table per fault kind: runs, runs whose EXPECTED code was
-confirmed (detected), runs with only other codes (mis-isolated), runs with none (missed), the
-latency of the first confirmation after the onset (median and largest over the detected runs),
-and the codes seen. Expected codes are those of the README's DTC table; a kind without a
-detector expects none (its row counts what the other detectors did with it).
+"""Summarise the fault matrix (tools/run_fault_matrix.sh).
 
-usage: fault_matrix.py DIR ONSET_S   (DIR holds healthy.csv and <spec>.csv files; writes DIR/matrix.md)
+Reads DIR/runs/*.csv (population --runs-csv files: one line per run, the column "injected"
+naming the injected fault kinds with their class and onset, "dtc_codes" every confirmed code
+with its class and first confirmation time, both written by host_sim/sim/population_main.c from
+the plant's fault table and the firmware's code table) and, when given, the false-alarm soak's
+summary (tools/run_healthy_soak.sh). Writes DIR/summary.json and DIR/matrix.md.
+
+Definitions (per run of an injected fault with onset t0):
+  detected   a code of the injected fault's class was confirmed at or after t0;
+  delay      that code's first confirmation - t0 [s];
+  isolated   the FIRST code confirmed at or after t0 belongs to the injected class (the ECU acts
+             on the first code, so a wrong first code is a mis-isolation even if the right one
+             follows);
+  confusion  injected class (row) x class of that first code, "none" when no code confirmed;
+  early      a code confirmed before t0 (a false alarm before the fault existed).
+Healthy runs (injected = healthy) and the soak count false alarms: runs with any confirmed code.
+
+usage: fault_matrix.py DIR [SOAK_SUMMARY_JSON]
 """
 import csv
+import glob
+import json
 import math
 import os
 import sys
 
-CODES = ["P0121", "P0221", "P2135", "P2111", "P2112", "P2100", "P2101", "P1A01", "P2119", "P1A02"]  # bit order of diag_dtc_t
-EXPECTED = {
-    "tps1_": {"P0121"}, "tps2_": {"P0221"}, "jam": {"P2111", "P2112"}, "winding_open": {"P2100"},
-    "winding_resistance_high": {"P2101"}, "winding_short": {"P1A01"}, "friction_high": {"P2119"},
-    "spring_weak": {"P1A02"},
-}
+
+def parse_codes(text):
+    """'P0121:tps1_fault:2.0190 P2135:tps_correlation:2.3' -> [(t, code, class)] sorted by time."""
+    out = []
+    for tok in text.split():
+        code, cls, t = tok.split(":")
+        out.append((float(t), code, cls))
+    out.sort()
+    return out
 
 
-def expected_codes(kind):
-    for prefix, codes in EXPECTED.items():
-        if kind.startswith(prefix):
-            return codes
-    return set()
+def parse_injected(text):
+    """'jam:jam:2.0000' -> (kind, class, onset); None for healthy."""
+    if text == "healthy":
+        return None
+    toks = text.split()
+    if len(toks) != 1:
+        raise ValueError("the matrix injects one fault per run, got '%s'" % text)
+    kind, cls, t0 = toks[0].split(":")
+    return kind, cls, float(t0)
 
 
-def codes_of(mask):
-    return {c for b, c in enumerate(CODES) if (mask >> b) & 1}
+def pct(values, q):
+    """Nearest-rank percentile of a non-empty list (q in 0..100)."""
+    v = sorted(values)
+    k = max(0, min(len(v) - 1, int(math.ceil(q / 100.0 * len(v))) - 1))
+    return v[k]
+
+
+class Tally:
+    def __init__(self):
+        self.runs = self.detected = self.isolated = self.any_code = self.early = 0
+        self.delays = []
+
+    def add(self, res):
+        self.runs += 1
+        self.detected += res["detected"]
+        self.isolated += res["isolated"]
+        self.any_code += res["first_class"] != "none"
+        self.early += res["early"]
+        if res["detected"]:
+            self.delays.append(res["delay"])
+
+    def json(self):
+        d = {
+            "runs": self.runs,
+            "detection_rate": self.detected / self.runs if self.runs else None,
+            "delay_median_s": pct(self.delays, 50) if self.delays else None,
+            "delay_p95_s": pct(self.delays, 95) if self.delays else None,
+            "delay_max_s": max(self.delays) if self.delays else None,
+            "isolation_rate": self.isolated / self.runs if self.runs else None,
+            "isolation_rate_of_alarms": self.isolated / self.any_code if self.any_code else None,
+            "runs_with_a_code": self.any_code,
+            "runs_with_a_code_before_onset": self.early,
+        }
+        return d
+
+
+def judge(row):
+    inj = parse_injected(row["injected"])
+    codes = parse_codes(row["dtc_codes"])
+    if inj is None:
+        return None, {"confirmed": len(codes) > 0}
+    kind, cls, t0 = inj
+    after = [c for c in codes if c[0] >= t0 - 1e-9]
+    right = [c for c in after if c[2] == cls]
+    first_class = after[0][2] if after else "none"
+    return (kind, cls), {
+        "detected": bool(right),
+        "delay": right[0][0] - t0 if right else None,
+        "isolated": bool(after) and after[0][2] == cls,
+        "first_class": first_class,
+        "early": any(c[0] < t0 - 1e-9 for c in codes),
+    }
+
+
+def fmt(x, scale=1.0, digits=0):
+    return "-" if x is None else ("%.*f" % (digits, scale * x))
 
 
 def main():
-    if len(sys.argv) != 3:
+    if len(sys.argv) not in (2, 3):
         print(__doc__.strip().splitlines()[-1], file=sys.stderr)
         return 2
-    d, onset = sys.argv[1], float(sys.argv[2])
-    rows = []
-    for name in sorted(os.listdir(d)):
-        if not name.endswith(".csv"):
-            continue
-        spec = name[:-4]
-        kind = "healthy" if spec == "healthy" else spec.split(":")[0].split("@")[0]
-        exp = expected_codes(kind)
-        n = det = mis = missed = 0
-        lat = []
-        seen = {}
-        with open(os.path.join(d, name)) as f:
-            for r in csv.DictReader(f):
-                n += 1
-                got = codes_of(int(r["dtc_confirmed"]))
-                for c in got:
-                    seen[c] = seen.get(c, 0) + 1
-                if exp and got & exp:
-                    det += 1
-                    t = float(r["dtc_first_s"])
-                    if math.isfinite(t):
-                        lat.append(t - onset)
-                elif got:
-                    mis += 1
-                else:
-                    missed += 1
-        lat.sort()
-        med = "%.0f" % (1e3 * lat[len(lat) // 2]) if lat else "-"
-        worst = "%.0f" % (1e3 * lat[-1]) if lat else "-"
-        rows.append((spec, n, ",".join(sorted(exp)) or "none", det, mis, missed, med, worst,
-                     " ".join("%s:%d" % (c, seen[c]) for c in CODES if c in seen) or "-"))
-    out = ["| fault | runs | expected | detected | other codes only | nothing | latency median [ms] | latency max [ms] | codes confirmed (runs) |",
-           "|---|---|---|---|---|---|---|---|---|"]
-    for r in rows:
-        out.append("| %s | %d | %s | %d | %d | %d | %s | %s | %s |" % r)
-    text = "\n".join(out) + "\n"
+    d = sys.argv[1]
+    files = sorted(glob.glob(os.path.join(d, "runs", "*.csv")))
+    if not files:
+        print("fault_matrix.py: no runs CSV in %s/runs" % d, file=sys.stderr)
+        return 1
+    per_class, per_spec, per_scn = {}, {}, {}
+    confusion = {}
+    healthy_runs = healthy_alarms = 0
+    healthy_seconds = 0.0
+    scenarios = set()
+    for path in files:
+        spec = os.path.basename(path)[:-4]
+        with open(path) as f:
+            for row in csv.DictReader(f):
+                key, res = judge(row)
+                scenarios.add(row["scenario"])
+                if key is None:
+                    healthy_runs += 1
+                    healthy_alarms += res["confirmed"]
+                    healthy_seconds += float(row.get("duration_s") or 0.0)
+                    continue
+                kind, cls = key
+                per_class.setdefault(cls, Tally()).add(res)
+                per_spec.setdefault((cls, spec), Tally()).add(res)
+                per_scn.setdefault((cls, row["scenario"]), Tally()).add(res)
+                row_c = confusion.setdefault(cls, {})
+                row_c[res["first_class"]] = row_c.get(res["first_class"], 0) + 1
+    soak = None
+    if len(sys.argv) == 3 and os.path.exists(sys.argv[2]):
+        with open(sys.argv[2]) as f:
+            soak = json.load(f)
+    total = Tally()
+    for t in per_class.values():
+        total.runs += t.runs
+        total.detected += t.detected
+        total.isolated += t.isolated
+        total.any_code += t.any_code
+        total.early += t.early
+        total.delays += t.delays
+    summary = {
+        "classes": {c: per_class[c].json() for c in sorted(per_class)},
+        "specs": {spec: dict(per_spec[(c, spec)].json(), fault_class=c) for (c, spec) in sorted(per_spec)},
+        "per_scenario": {"%s/%s" % k: per_scn[k].json() for k in sorted(per_scn)},
+        "overall": total.json(),
+        "confusion_matrix": confusion,
+        "matrix_healthy_runs": healthy_runs,
+        "matrix_healthy_false_alarms": healthy_alarms,
+        "matrix_healthy_seconds": healthy_seconds,
+        "soak_runs": soak["runs"] if soak else 0,
+        "soak_seconds": soak["healthy_seconds"] if soak else 0.0,
+        "soak_false_alarms": soak["false_alarms_healthy"] if soak else 0,
+        "scenarios": sorted(scenarios),
+    }
+    summary["false_alarms_healthy"] = healthy_alarms + summary["soak_false_alarms"]
+    summary["healthy_seconds"] = healthy_seconds + summary["soak_seconds"]
+    with open(os.path.join(d, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=2)
+        f.write("\n")
+
+    cols = sorted({c for r in confusion.values() for c in r} - {"none"}) + ["none"]
+    lines = ["## Per fault class (all magnitudes and scenarios)", "",
+             "| class | runs | detected | delay median [ms] | delay p95 [ms] | isolated | isolated of alarms | code before onset |",
+             "|---|---|---|---|---|---|---|---|"]
+    for c in sorted(per_class):
+        j = per_class[c].json()
+        lines.append("| %s | %d | %.1f %% | %s | %s | %.1f %% | %s | %d |" % (
+            c, j["runs"], 100 * j["detection_rate"], fmt(j["delay_median_s"], 1e3), fmt(j["delay_p95_s"], 1e3),
+            100 * j["isolation_rate"],
+            "-" if j["isolation_rate_of_alarms"] is None else "%.1f %%" % (100 * j["isolation_rate_of_alarms"]),
+            j["runs_with_a_code_before_onset"]))
+    j = total.json()
+    lines.append("| **all** | %d | %.1f %% | %s | %s | %.1f %% | %s | %d |" % (
+        j["runs"], 100 * j["detection_rate"], fmt(j["delay_median_s"], 1e3), fmt(j["delay_p95_s"], 1e3),
+        100 * j["isolation_rate"],
+        "-" if j["isolation_rate_of_alarms"] is None else "%.1f %%" % (100 * j["isolation_rate_of_alarms"]),
+        j["runs_with_a_code_before_onset"]))
+    lines += ["", "## Per fault and magnitude", "",
+              "| fault | class | runs | detected | delay median [ms] | delay p95 [ms] | isolated |", "|---|---|---|---|---|---|---|"]
+    for (c, spec) in sorted(per_spec):
+        j = per_spec[(c, spec)].json()
+        lines.append("| %s | %s | %d | %.0f %% | %s | %s | %.0f %% |" % (
+            spec, c, j["runs"], 100 * j["detection_rate"], fmt(j["delay_median_s"], 1e3), fmt(j["delay_p95_s"], 1e3),
+            100 * j["isolation_rate"]))
+    lines += ["", "## Per fault class and scenario: detected / isolated", "",
+              "| class | " + " | ".join(sorted(scenarios)) + " |", "|---|" + "---|" * len(scenarios)]
+    for c in sorted(per_class):
+        cells = []
+        for s in sorted(scenarios):
+            t = per_scn.get((c, s))
+            cells.append("-" if t is None else "%.0f / %.0f %%" % (100.0 * t.detected / t.runs, 100.0 * t.isolated / t.runs))
+        lines.append("| %s | %s |" % (c, " | ".join(cells)))
+    lines += ["", "## Confusion matrix (injected class x class of the first code confirmed after the onset; runs)", "",
+              "| injected \\ first code | " + " | ".join(cols) + " |", "|---|" + "---|" * len(cols)]
+    for c in sorted(confusion):
+        lines.append("| %s | %s |" % (c, " | ".join(str(confusion[c].get(k, 0)) or "" for k in cols)))
+    lines += ["", "Healthy: %d matrix runs (%.0f s) with %d false alarms; soak %d runs (%.0f s) with %d; "
+              "total **%d false alarms in %.0f s**." % (
+                  healthy_runs, healthy_seconds, healthy_alarms, summary["soak_runs"], summary["soak_seconds"],
+                  summary["soak_false_alarms"], summary["false_alarms_healthy"], summary["healthy_seconds"])]
+    text = "\n".join(lines) + "\n"
     with open(os.path.join(d, "matrix.md"), "w") as f:
         f.write(text)
     sys.stdout.write(text)

@@ -1,32 +1,86 @@
 #!/usr/bin/env bash
-# Fault-matrix benchmark (issue 12, first version): every fault kind of host_sim --fault at one
-# magnitude, from ONSET s, injected into the population benchmark's runs (population --fault),
-# plus the healthy population; tools/fault_matrix.py tabulates per fault the runs whose expected
-# diagnostic code was confirmed, mis-isolated, missed, and the latency of the first
-# confirmation. Writes out/fault_matrix/<spec>.csv (one line per run), matrix.md, population.log.
-#   usage: tools/run_fault_matrix.sh [population options, e.g. --quick | --plants N --seeds S]
-# Default: 10 units per section x 8 scenarios x 1 seed per fault (160 runs, a few seconds each).
+# The fault-matrix benchmark (issue 12): every fault class of host_sim --fault at three or more
+# magnitudes (down to the smallest claimed) x four scenarios (closed-loop normal driving "drive",
+# full-range maximum-slew closed-loop steps, the paper's open-loop 12 V sine, the slow stick-slip
+# sine) x the population's evaluation units of both sections (stops_varied: the filter knows the
+# unit's motor, friction and spring; all_varied: every parameter spread, the filter on its class's
+# defaults) x noise seeds, the fault injected at ONSET s into runs of DURATION s; the same runs
+# healthy; and the long healthy soak (tools/run_healthy_soak.sh). tools/fault_matrix.py writes
+# out/fault_matrix/summary.json (per class: detection_rate, delay_median_s, delay_p95_s,
+# isolation_rate; overall false_alarms_healthy, healthy_seconds, confusion_matrix) and matrix.md.
+#
+#   usage: tools/run_fault_matrix.sh [--quick | --full] [--plants N] [--seeds S] [--soak-duration S]
+#                                    [--no-soak] [--jobs J]
+#   default  10 units per section, 1 seed, 8 s runs: 80 runs per fault spec, 41 specs (3,360 runs),
+#            and the 100,800 s soak; about 7 minutes on 2 cores
+#   --quick  2 units, drive and closed_steps, 6 s runs, a 5 s-per-run soak; about 30 s
+#   --full   30 units per section, 3 seeds (the evaluation set of the population benchmark); about
+#            15 minutes plus the soak
 # Never fails on the figures; fails only if a step cannot run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-ONSET=1.0
+ONSET=2.0
+duration=8
+plants=10
+seeds=1
+scenarios=drive,closed_steps,paper_sine,slow_sine
+soak_duration=70
+soak=1
+jobs=$(nproc 2>/dev/null || echo 2)
+while (($#)); do
+  case $1 in
+    --quick) plants=2; scenarios=drive,closed_steps; duration=6; soak_duration=5 ;;
+    --full) plants=30; seeds=3 ;;
+    --plants) plants=$2; shift ;;
+    --seeds) seeds=$2; shift ;;
+    --soak-duration) soak_duration=$2; shift ;;
+    --no-soak) soak=0 ;;
+    --jobs) jobs=$2; shift ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    *) echo "run_fault_matrix.sh: unknown option '$1' (--help)" >&2; exit 2 ;;
+  esac
+  shift
+done
 cmake --preset host-release >/dev/null
-cmake --build build/host-release -j"$(nproc 2>/dev/null || echo 2)" --target population >/dev/null
+cmake --build build/host-release -j"$jobs" --target population >/dev/null
 dir=out/fault_matrix
 rm -rf "$dir"
-mkdir -p "$dir"
-# the two sections whose runs start at the scenario (all_varied_adapted begins with 5 s of open-loop
-# warm-up, which would count a closed-loop detector's wait for the scenario as its latency)
-args=(--plants 10 --seeds 1 --sections stops,all)
-if (($#)); then args=(--sections stops,all "$@"); fi
-specs=(friction_high:2 jam:10 spring_weak:0.3 winding_resistance_high:1.5 winding_open winding_short:0.5
-  tps1_offset:1 tps1_gain:5 tps1_stuck tps1_intermittent:0.1 tps2_offset:-1 tps2_gain:-5 tps2_stuck
-  tps2_intermittent:0.1 current_offset:0.05 current_gain:5 bridge_pos_lost bridge_neg_lost supply_sag:3)
-build/host-release/bin/population "${args[@]}" --json "$dir/healthy.json" --runs-csv "$dir/healthy.csv" >/dev/null 2>"$dir/population.log"
-for s in "${specs[@]}"; do
-  build/host-release/bin/population "${args[@]}" --fault "$s@$ONSET" --json "$dir/$s.json" --runs-csv "$dir/$s.csv" >/dev/null 2>>"$dir/population.log"
-  rm -f "$dir/$s.json"
-done
-rm -f "$dir/healthy.json"
-/usr/bin/python3 tools/fault_matrix.py "$dir" "$ONSET"
-echo "per run: $dir/<fault>.csv; table: $dir/matrix.md"
+mkdir -p "$dir/runs"
+# fault specs: class by class, three or more magnitudes each (kinds without a magnitude once)
+specs=(
+  friction_high:1.25 friction_high:1.5 friction_high:2
+  jam:1 jam:3 jam:10
+  spring_weak:0.5 spring_weak:0.3 spring_weak:0
+  winding_resistance_high:1.25 winding_resistance_high:1.5 winding_resistance_high:2
+  winding_open
+  winding_short:0.2 winding_short:0.35 winding_short:0.5
+  tps1_offset:1 tps1_offset:-2 tps1_offset:5 tps1_gain:5 tps1_stuck tps1_intermittent:0.01 tps1_intermittent:0.1
+  tps2_offset:-1 tps2_offset:2 tps2_offset:-5 tps2_gain:-5 tps2_stuck tps2_intermittent:0.01 tps2_intermittent:0.1
+  current_offset:0.02 current_offset:0.05 current_offset:0.1 current_gain:5 current_gain:10 current_gain:20
+  bridge_pos_lost bridge_neg_lost
+  supply_sag:2 supply_sag:3 supply_sag:5
+)
+common=(--plants "$plants" --seeds "$seeds" --sections stops,all --scenarios "$scenarios" --duration "$duration")
+pop=build/host-release/bin/population
+echo "fault matrix: ${#specs[@]} fault specs + healthy, ${plants} units x 2 sections x ${scenarios//,/ } x ${seeds} seed(s), ${duration} s runs, onset ${ONSET} s" >&2
+# one population process per spec, $jobs at a time; each writes its own runs CSV and log
+run_spec() { # spec ('healthy' for none)
+  local s=$1 f=()
+  [[ $s == healthy ]] || f=(--fault "$s@$ONSET")
+  "$pop" "${common[@]}" "${f[@]}" --runs-csv "$dir/runs/$s.csv" >/dev/null 2>"$dir/runs/$s.log" ||
+    { echo "run_fault_matrix.sh: population failed for $s (log: $dir/runs/$s.log)" >&2; return 1; }
+  echo "  done: $s" >&2
+}
+export -f run_spec
+export pop dir ONSET
+export common_str="${common[*]}"
+printf '%s\n' healthy "${specs[@]}" | xargs -P "$jobs" -I{} bash -c 'common=($common_str); run_spec "$@"' _ {}
+soak_json=
+if ((soak)); then
+  echo "healthy soak: ${soak_duration} s per run (tools/run_healthy_soak.sh)" >&2
+  tools/run_healthy_soak.sh --duration "$soak_duration" \
+    --scenarios paper_sine,closed_steps,closed_ramp,chirp,slow_sine,open_steps,standstill,limp_home,drive >&2
+  soak_json=out/soak/summary.json
+fi
+/usr/bin/python3 tools/fault_matrix.py "$dir" $soak_json
+echo "summary: $dir/summary.json; tables: $dir/matrix.md; per run: $dir/runs/<fault>.csv" >&2

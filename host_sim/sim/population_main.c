@@ -129,6 +129,39 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
     l->err_open_max = max_finite(l->err_open_max, fabs(r.stop_learn_open_rad - pc->phi_open_rad));
     return sim_apply_stop_learning(&r, ac);
 }
+/* The runs CSV's column "injected": the --fault specs as KIND:FAULT_CLASS:ONSET_S separated by
+ * spaces, "healthy" when none. */
+static void write_injected(FILE *csv)
+{
+    unsigned k;
+    if (s_faults.n == 0u) {
+        fputs("healthy,", csv);
+        return;
+    }
+    for (k = 0u; k < s_faults.n; ++k) {
+        fprintf(csv, "%s%s:%s:%.4f", k > 0u ? " " : "", plant_fault_kind_name(s_faults.spec[k].kind),
+                plant_fault_kind_class(s_faults.spec[k].kind), s_faults.spec[k].t_s);
+    }
+    fputc(',', csv);
+}
+
+/* The runs CSV's last column: every confirmed code as CODE:FAULT_CLASS:FIRST_CONFIRMATION_S,
+ * separated by spaces, in the order of the code table (tools/fault_matrix.py reads it: the
+ * classes come from the firmware's table, so a new code needs no change there). */
+static void write_dtc_codes(FILE *csv, const sim_result_t *r)
+{
+    int d;
+    int first = 1;
+    for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+        const diag_dtc_info_t *info = diag_dtc_info((diag_dtc_t)d);
+        if (isfinite(r->dtc_confirm_t_s[d]) && info != NULL) {
+            fprintf(csv, "%s%s:%s:%.4f", first ? "" : " ", info->code, info->fault_class, r->dtc_confirm_t_s[d]);
+            first = 0;
+        }
+    }
+    fputc('\n', csv);
+}
+
 static params_t s_params;
 
 /* DIR/<section>_<unit>.params: the unit's filter configuration as a parameter file; 0 on success. */
@@ -173,7 +206,7 @@ static void usage(FILE *f)
             "                    tools/tune_noise.py trains on 1001 ..)\n"
             "  --first-unit ID   first unit ID (default %u: the evaluation set; IDs below it are\n"
             "                    the training set of tools/tune_noise.py)\n"
-            "  --scenarios LIST  comma-separated (default: all but stuck_release and ident):",
+            "  --scenarios LIST  comma-separated (default: all but stuck_release, ident and drive):",
             s_prog, POP_PLANTS_MAX, POP_SEEDS_MAX, POP_FIRST_EVAL_UNIT);
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
         if (k != (int)SIM_SCN_STOP_LEARN) {
@@ -334,7 +367,8 @@ int main(int argc, char **argv)
 
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
         /* ident (30 s, identify's excitation) only on request */
-        use_scn[k] = k != (int)SIM_SCN_STUCK_RELEASE && k != (int)SIM_SCN_STOP_LEARN && k != (int)SIM_SCN_IDENT;
+        use_scn[k] = k != (int)SIM_SCN_STUCK_RELEASE && k != (int)SIM_SCN_STOP_LEARN && k != (int)SIM_SCN_IDENT &&
+                     k != (int)SIM_SCN_DRIVE;
     }
     for (k = 0; k < POP_NSEC; ++k) {
         s_learn[k].err_closed_max = s_learn[k].err_open_max = s_learn[k].speed_max = s_learn[k].time_max_s = (double)NAN;
@@ -465,7 +499,7 @@ int main(int argc, char **argv)
             return 1;
         }
         fprintf(csv, "section,unit,class,scenario,seed,rmse_filter_rad_s,rmse_diff_rad_s,ratio,nees_avg,nees_window_max,"
-                     "consistency_flagged,faults,dtc_confirmed,dtc_pending,dtc_first_s\n");
+                     "consistency_flagged,faults,dtc_confirmed,dtc_pending,dtc_first_s,duration_s,injected,dtc_codes\n");
     }
 
     /* the nominal unit of class A, the paper's experiment, seed 1, with the same --params */
@@ -575,10 +609,13 @@ int main(int argc, char **argv)
                         }
                     }
                     if (csv != NULL) {
-                        fprintf(csv, "%s,%llu,%s,%s,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d,%lu,%lu,%.6g\n", s_sec_name[sec],
+                        fprintf(csv, "%s,%llu,%s,%s,%llu,%.6g,%.6g,%.6g,%.6g,%.6g,%d,%d,%lu,%lu,%.6g,", s_sec_name[sec],
                                 (unsigned long long)unit, plant_class_name(cls), sim_scenario_name(opt.scenario), s,
                                 run->rmse_filter, run->rmse_diff, run->ratio, run->nees_avg, run->nees_win_max, run->flagged,
                                 (int)r.faults, (unsigned long)run->dtc, (unsigned long)run->dtc_pending, run->dtc_first_s);
+                        fprintf(csv, "%.4f,", r.duration_s - opt.warmup_s);
+                        write_injected(csv);
+                        write_dtc_codes(csv, &r);
                     }
                 }
             }

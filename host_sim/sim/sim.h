@@ -106,6 +106,11 @@ typedef enum {
     /** APP_MODE_IDENT at 12 V: the identification excitation (app.h), one 30 s sequence; the log
      *  that `identify` reads (host_sim/identify/) */
     SIM_SCN_IDENT,
+    /** closed-loop normal driving (the fault matrix's driving cycle): APP_MODE_POSITION through
+     *  ten pedal positions between 0.05 and 1.2 rad, one per second, each reached by a ramp at
+     *  SIM_DRIVE_RATE_RAD_S and then held; 10 s (repeating when longer). Not in the population's
+     *  default mix (its figures stay comparable); the fault matrix runs it. */
+    SIM_SCN_DRIVE,
     SIM_SCN_COUNT /**< number of scenarios (not a scenario) */
 } sim_scenario_t;
 

@@ -17,8 +17,8 @@
 
 static const char *const s_scn_names[SIM_SCN_COUNT] = {"paper_sine", "closed_steps", "closed_ramp", "chirp",
                                                        "stuck_release", "slow_sine", "open_steps", "standstill",
-                                                       "limp_home", "stop_learn", "ident"};
-static const double s_scn_duration_s[SIM_SCN_COUNT] = {2.0, 2.5, 2.5, 2.0, 2.2, 4.0, 4.0, 2.0, 2.4, 12.0, 30.0};
+                                                       "limp_home", "stop_learn", "ident", "drive"};
+static const double s_scn_duration_s[SIM_SCN_COUNT] = {2.0, 2.5, 2.5, 2.0, 2.2, 4.0, 4.0, 2.0, 2.4, 12.0, 30.0, 10.0};
 static const char *const s_est_names[SIM_EST_COUNT] = {"app filter", "paper set-up, our map", "paper as printed",
                                                        "paper, eq.12 predict", "paper, eq.12 + exact Jac.",
                                                        "measured / differentiated"};
@@ -36,7 +36,8 @@ static const char *const s_scn_descriptions[SIM_SCN_COUNT] = {
     "open-loop 1.5 V / 2 Hz sine, 2 s (too small to break away from limp-home)",
     "closed loop to 0.8 rad, bridge off (spring return to limp-home), to the lowest target, off; 2.4 s",
     "start-up stop learning (APP_MODE_STOP_LEARN): slowly into each stop, learned angles reported; 12 s",
-    "identification excitation (APP_MODE_IDENT, 12 V): swings at 0.5-5 Hz, steps, four levels against each stop, slow sine; 30 s"};
+    "identification excitation (APP_MODE_IDENT, 12 V): swings at 0.5-5 Hz, steps, four levels against each stop, slow sine; 30 s",
+    "closed-loop normal driving: ten pedal positions 0.05..1.2 rad, one per second, ramps at 3 rad/s; 10 s"};
 
 const char *sim_scenario_description(sim_scenario_t s)
 {
@@ -114,6 +115,10 @@ static const double s_step_targets_rad[4] = {0.2, 0.8, 0.05, 1.2};
 #define SIM_LIMP_PHASE_S 0.6
 #define SIM_LIMP_TARGET_HI_RAD 0.8
 #define SIM_LIMP_TARGET_LO_RAD (-1.0)
+/* drive: the pedal positions, one per SIM_DRIVE_SEG_S, each reached by a ramp at SIM_DRIVE_RATE_RAD_S */
+static const double s_drive_targets_rad[10] = {0.15, 0.45, 0.30, 0.90, 0.20, 1.20, 0.60, 0.05, 0.35, 0.75};
+#define SIM_DRIVE_SEG_S 1.0
+#define SIM_DRIVE_RATE_RAD_S 3.0
 
 /* Initial control of a scenario (before app_init). */
 void sim_scenario_control0(sim_scenario_t scn, app_control_t *c)
@@ -158,6 +163,10 @@ void sim_scenario_control0(sim_scenario_t scn, app_control_t *c)
         c->mode = APP_MODE_POSITION;
         c->target_rad = (tv_real_t)SIM_LIMP_TARGET_HI_RAD;
         break;
+    case SIM_SCN_DRIVE:
+        c->mode = APP_MODE_POSITION;
+        c->target_rad = (tv_real_t)sim_target_rad(SIM_SCN_DRIVE, 0.0);
+        break;
     case SIM_SCN_STOP_LEARN:
         c->mode = APP_MODE_STOP_LEARN;
         break;
@@ -179,6 +188,17 @@ double sim_target_rad(sim_scenario_t scn, double t_s)
     if (scn == SIM_SCN_CLOSED_STEPS) {
         const long n = (long)floor(t_s / SIM_STEP_DWELL_S + 1e-9);
         return s_step_targets_rad[n % 4];
+    }
+    if (scn == SIM_SCN_DRIVE) {
+        /* segment n holds target n after a ramp from target n - 1 (the last one before the first) */
+        const long n = (long)floor(t_s / SIM_DRIVE_SEG_S + 1e-9);
+        const double from = s_drive_targets_rad[(n + 9) % 10];
+        const double to = s_drive_targets_rad[n % 10];
+        const double moved = SIM_DRIVE_RATE_RAD_S * (t_s - (double)n * SIM_DRIVE_SEG_S);
+        if (n <= 0 && t_s < SIM_DRIVE_SEG_S) {
+            return s_drive_targets_rad[0]; /* the first segment starts at its target */
+        }
+        return moved >= fabs(to - from) ? to : from + (to > from ? moved : -moved);
     }
     /* closed_ramp */
     if (t_s < SIM_RAMP_HOLD_S) {
@@ -203,6 +223,7 @@ int sim_scenario_update(sim_scenario_t scn, app_t *app, double t_s)
     switch (scn) {
     case SIM_SCN_CLOSED_STEPS:
     case SIM_SCN_CLOSED_RAMP:
+    case SIM_SCN_DRIVE:
         return app_set_target(app, (tv_real_t)sim_target_rad(scn, t_s));
     case SIM_SCN_STUCK_RELEASE: {
         app_control_t c = app->cfg.control;

@@ -1,0 +1,99 @@
+#!/usr/bin/python3
+"""tools/fault_matrix.py on hand-written runs CSVs whose figures are worked out by hand below:
+detection, delay percentiles, isolation (first code after the onset), codes before the onset,
+the confusion matrix and the healthy totals with a soak summary. Then one real population run
+with an injected track offset, through the same script: the CSV columns it relies on exist and
+the offset is detected with its class."""
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPT = os.path.join(HERE, "..", "tools", "fault_matrix.py")
+HEAD = ["section", "unit", "class", "scenario", "seed", "duration_s", "injected", "dtc_codes"]
+failures = 0
+
+
+def check(cond, what):
+    global failures
+    if not cond:
+        failures += 1
+        print("FAIL: " + what)
+    else:
+        print("ok: " + what)
+
+
+def write(path, rows):
+    with open(path, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(HEAD)
+        for r in rows:
+            w.writerow(r)
+
+
+def synthetic(d):
+    os.makedirs(os.path.join(d, "runs"))
+    inj = "jam:jam:2.0000"
+    write(os.path.join(d, "runs", "jam:3.csv"), [
+        # detected after 0.060 s, first code jam: isolated
+        ["all_varied", 1, "a", "drive", 1, 8, inj, "P2112:jam:2.0600"],
+        # detected after 0.100 s but a friction code came first (2.05): detected, not isolated
+        ["all_varied", 2, "a", "drive", 1, 8, inj, "P2119:friction_high:2.0500 P2111:jam:2.1000"],
+        # nothing
+        ["all_varied", 3, "a", "closed_steps", 1, 8, inj, ""],
+        # a code before the onset (early) and the jam after 0.500 s
+        ["all_varied", 4, "a", "closed_steps", 1, 8, inj, "P1A02:spring_weak:1.0000 P2112:jam:2.5000"],
+    ])
+    write(os.path.join(d, "runs", "healthy.csv"), [
+        ["all_varied", 1, "a", "drive", 1, 8, "healthy", ""],
+        ["all_varied", 2, "a", "drive", 1, 8, "healthy", "P2119:friction_high:3.0000"],
+    ])
+    soak = os.path.join(d, "soak.json")
+    with open(soak, "w") as f:
+        json.dump({"runs": 10, "healthy_seconds": 700.0, "false_alarms_healthy": 0}, f)
+    subprocess.run([sys.executable, SCRIPT, d, soak], check=True, stdout=subprocess.DEVNULL)
+    s = json.load(open(os.path.join(d, "summary.json")))
+    j = s["classes"]["jam"]
+    check(j["runs"] == 4, "4 jam runs")
+    check(abs(j["detection_rate"] - 0.75) < 1e-12, "jam detected in 3 of 4 runs")
+    # delays 0.06, 0.10, 0.50: nearest-rank median = 0.10, p95 = 0.50
+    check(abs(j["delay_median_s"] - 0.10) < 1e-9, "median delay 0.100 s")
+    check(abs(j["delay_p95_s"] - 0.50) < 1e-9, "p95 delay 0.500 s")
+    # isolated: run 1 and run 4 (its first code AFTER the onset is the jam)
+    check(abs(j["isolation_rate"] - 0.5) < 1e-12, "isolation 2 of 4")
+    check(abs(j["isolation_rate_of_alarms"] - 2.0 / 3.0) < 1e-12, "isolation 2 of the 3 runs with a code")
+    check(j["runs_with_a_code_before_onset"] == 1, "one run with a code before the onset")
+    check(s["confusion_matrix"]["jam"] == {"jam": 2, "friction_high": 1, "none": 1}, "confusion row of jam")
+    check(s["matrix_healthy_runs"] == 2 and s["matrix_healthy_false_alarms"] == 1, "1 false alarm in 2 healthy runs")
+    check(s["false_alarms_healthy"] == 1 and abs(s["healthy_seconds"] - 716.0) < 1e-9, "healthy totals with the soak")
+    check(s["per_scenario"]["jam/drive"]["detection_rate"] == 1.0, "per scenario: drive 2 of 2")
+    check(s["per_scenario"]["jam/closed_steps"]["detection_rate"] == 0.5, "per scenario: closed_steps 1 of 2")
+
+
+def real(d, pop):
+    os.makedirs(os.path.join(d, "runs"))
+    subprocess.run([pop, "--plants", "1", "--seeds", "1", "--sections", "stops", "--scenarios", "drive", "--duration", "3",
+                    "--fault", "tps2_offset:-1@1.5", "--runs-csv", os.path.join(d, "runs", "tps2_offset:-1.csv")],
+                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    subprocess.run([sys.executable, SCRIPT, d], check=True, stdout=subprocess.DEVNULL)
+    s = json.load(open(os.path.join(d, "summary.json")))
+    t = s["classes"].get("tps2_fault")
+    check(t is not None and t["runs"] == 1, "population's injected column names the class")
+    check(t is not None and t["detection_rate"] == 1.0 and t["isolation_rate"] == 1.0, "tps2 offset detected and isolated")
+    check(t is not None and 0.0 < t["delay_median_s"] < 0.05, "its delay is below 50 ms (%s)" % (t and t["delay_median_s"]))
+
+
+def main():
+    with tempfile.TemporaryDirectory() as d:
+        synthetic(os.path.join(d, "a"))
+        if len(sys.argv) > 1:
+            real(os.path.join(d, "b"), sys.argv[1])
+    print("%d failure(s)" % failures)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
