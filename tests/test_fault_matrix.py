@@ -71,6 +71,20 @@ def synthetic(d):
     check(s["false_alarms_healthy"] == 1 and abs(s["healthy_seconds"] - 716.0) < 1e-9, "healthy totals with the soak")
     check(s["per_scenario"]["jam/drive"]["detection_rate"] == 1.0, "per scenario: drive 2 of 2")
     check(s["per_scenario"]["jam/closed_steps"]["detection_rate"] == 0.5, "per scenario: closed_steps 1 of 2")
+    check("param_rel_err_median" not in j, "no parameter error for a jam")
+    # resistance errors at the end: |5.1/5 - 1| = 2 %, |4.85/5 - 1| = 3 %, |6.6/6 - 1| = 10 %
+    head = HEAD[:-2] + ["r_est_ohm", "r_true_ohm"] + HEAD[-2:]
+    with open(os.path.join(d, "runs", "winding_resistance_high:1.25.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(head)
+        inj = "winding_resistance_high:winding_resistance_high:2.0000"
+        for est, true in ((5.1, 5.0), (4.85, 5.0), (6.6, 6.0)):
+            w.writerow(["all_varied", 1, "a", "drive", 1, 8, est, true, inj, ""])
+    subprocess.run([sys.executable, SCRIPT, d, soak], check=True, stdout=subprocess.DEVNULL)
+    r = json.load(open(os.path.join(d, "summary.json")))["classes"]["winding_resistance_high"]
+    check(abs(r["param_rel_err_median"] - 0.03) < 1e-9, "resistance error median 3 %")
+    check(abs(r["param_rel_err_p95"] - 0.10) < 1e-9, "resistance error p95 10 %")
+    check(r["detection_rate"] == 0.0 and r["runs"] == 3, "no code: not detected")
 
 
 def real(d, pop):

@@ -16,6 +16,9 @@ Definitions (per run of an injected fault with onset t0):
   confusion  injected class (row) x class of that first code, "none" when no code confirmed;
   early      a code confirmed before t0 (a false alarm before the fault existed).
 Healthy runs (injected = healthy) and the soak count false alarms: runs with any confirmed code.
+For the faults that change an adapted parameter (winding resistance, friction, spring preload) the
+summary also gives the estimate's relative error at the end of the run, |estimate / true - 1|
+(median and p95), the true value being the plant's in force with the fault.
 
 usage: fault_matrix.py DIR [SOAK_SUMMARY_JSON]
 """
@@ -55,10 +58,20 @@ def pct(values, q):
     return v[k]
 
 
+# the adapted parameter a fault class changes: (estimate column, true column) of the runs CSV
+PARAM_OF_CLASS = {
+    "winding_resistance_high": ("r_est_ohm", "r_true_ohm"),
+    "winding_short": ("r_est_ohm", "r_true_ohm"),
+    "friction_high": ("friction_rel", "friction_rel_true"),
+    "spring_weak": ("preload_rel", "preload_rel_true"),
+}
+
+
 class Tally:
     def __init__(self):
         self.runs = self.detected = self.isolated = self.any_code = self.early = 0
         self.delays = []
+        self.param_err = []
 
     def add(self, res):
         self.runs += 1
@@ -68,6 +81,8 @@ class Tally:
         self.early += res["early"]
         if res["detected"]:
             self.delays.append(res["delay"])
+        if res.get("param_err") is not None:
+            self.param_err.append(res["param_err"])
 
     def json(self):
         d = {
@@ -81,6 +96,9 @@ class Tally:
             "runs_with_a_code": self.any_code,
             "runs_with_a_code_before_onset": self.early,
         }
+        if self.param_err:
+            d["param_rel_err_median"] = pct(self.param_err, 50)
+            d["param_rel_err_p95"] = pct(self.param_err, 95)
         return d
 
 
@@ -90,6 +108,12 @@ def judge(row):
     if inj is None:
         return None, {"confirmed": len(codes) > 0}
     kind, cls, t0 = inj
+    param_err = None
+    cols = PARAM_OF_CLASS.get(cls)
+    if cols and row.get(cols[0]) not in (None, "") and row.get(cols[1]) not in (None, ""):
+        est, true = float(row[cols[0]]), float(row[cols[1]])
+        if math.isfinite(est) and math.isfinite(true) and true != 0.0:
+            param_err = abs(est / true - 1.0)
     after = [c for c in codes if c[0] >= t0 - 1e-9]
     right = [c for c in after if c[2] == cls]
     first_class = after[0][2] if after else "none"
@@ -99,6 +123,7 @@ def judge(row):
         "isolated": bool(after) and after[0][2] == cls,
         "first_class": first_class,
         "early": any(c[0] < t0 - 1e-9 for c in codes),
+        "param_err": param_err,
     }
 
 
@@ -187,12 +212,14 @@ def main():
         "-" if j["isolation_rate_of_alarms"] is None else "%.1f %%" % (100 * j["isolation_rate_of_alarms"]),
         j["runs_with_a_code_before_onset"]))
     lines += ["", "## Per fault and magnitude", "",
-              "| fault | class | runs | detected | delay median [ms] | delay p95 [ms] | isolated |", "|---|---|---|---|---|---|---|"]
+              "| fault | class | runs | detected | delay median [ms] | delay p95 [ms] | isolated | parameter error median / p95 at the end |", "|---|---|---|---|---|---|---|---|"]
     for (c, spec) in sorted(per_spec):
         j = per_spec[(c, spec)].json()
-        lines.append("| %s | %s | %d | %.0f %% | %s | %s | %.0f %% |" % (
+        perr = ("%.1f / %.1f %%" % (100 * j["param_rel_err_median"], 100 * j["param_rel_err_p95"])
+                if "param_rel_err_median" in j else "-")
+        lines.append("| %s | %s | %d | %.0f %% | %s | %s | %.0f %% | %s |" % (
             spec, c, j["runs"], 100 * j["detection_rate"], fmt(j["delay_median_s"], 1e3), fmt(j["delay_p95_s"], 1e3),
-            100 * j["isolation_rate"]))
+            100 * j["isolation_rate"], perr))
     lines += ["", "## Per fault class and scenario: detected / isolated", "",
               "| class | " + " | ".join(sorted(scenarios)) + " |", "|---|" + "---|" * len(scenarios)]
     for c in sorted(per_class):

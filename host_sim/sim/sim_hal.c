@@ -80,6 +80,18 @@ int sim_hal_truth(plant_state_t *out)
     return plant_truth(&s_plant, out);
 }
 
+int sim_hal_config_in_force(plant_config_t *out)
+{
+    if (out == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!s_configured) {
+        return TV_ERR_CONFIG;
+    }
+    *out = s_plant.cfg;
+    return TV_OK;
+}
+
 int sim_hal_set_state(const plant_state_t *state)
 {
     if (!s_configured) {

@@ -70,6 +70,11 @@ int sim_hal_truth(plant_state_t *out);
  */
 int sim_hal_set_state(const plant_state_t *state);
 
+/** The plant's parameters in force now: the unit's with the injected faults applied (a winding
+ *  resistance fault's R, a friction fault's Mc, ...). TV_OK, TV_ERR_NULL, or TV_ERR_CONFIG before
+ *  sim_hal_configure(). */
+int sim_hal_config_in_force(plant_config_t *out);
+
 /**
  * Mean terminal voltage of the winding over the last sim_hal_advance() [V] (the input the
  * plant really received, diode conduction and open winding included).

@@ -619,6 +619,8 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         }
     }
     res->dtc_events_lost = app->diag.events_lost;
+    /* the "true" parameters are the plant's in force at the end: with an injected fault's */
+    (void)sim_hal_config_in_force(&pcfg);
     {
         tv_real_t dR;
         tv_real_t sR;
