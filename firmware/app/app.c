@@ -576,8 +576,12 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
         /* the model's breakaway voltage here: preload, spring and static friction at stall */
         const tv_real_t u_break_V =
             p->R_ohm * (p->M0_Nm + p->c_Nm_rad * TV_FABS(out->x[TVM_PHI]) + p->Ms_Nm) / (p->n_gear * p->Kt_Nm_A);
-        diag_jam_check(&app->ddet, &app->diag, c->mode == APP_MODE_POSITION && out->bridge_enable && was_on,
-                       clamp(c->target_rad, p->phi_closed_rad + c->target_margin_rad, p->phi_open_rad - c->target_margin_rad),
+        /* closed loop: the target; open loop (sine, steps, chirp): the stop the voltage pushes
+         * toward, the farthest the plate can go that way (at that stop it rightly stays) */
+        const int open_loop = c->mode == APP_MODE_SINE || c->mode == APP_MODE_STEPS || c->mode == APP_MODE_CHIRP;
+        const tv_real_t goal = open_loop ? (app->u_applied_V >= TV_R(0.0) ? TV_R(1e3) : TV_R(-1e3)) : c->target_rad;
+        diag_jam_check(&app->ddet, &app->diag, (c->mode == APP_MODE_POSITION || open_loop) && out->bridge_enable && was_on,
+                       clamp(goal, p->phi_closed_rad + c->target_margin_rad, p->phi_open_rad - c->target_margin_rad),
                        out->x[TVM_PHI], app->u_applied_V, u_break_V, snap);
     }
     diag_resistance_check(&app->ddet, &app->diag, was_on && app->diag_bridge_on && c->mode != APP_MODE_STOP_LEARN,

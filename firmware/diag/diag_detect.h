@@ -13,7 +13,9 @@
  *     the estimator, and with it the next vote, is never pulled toward the faulty track. A track
  *     that drifts slowly is averaged into the estimate before it crosses the threshold: the vote
  *     can then not tell the tracks apart and reports P2135 (limitation, README).
- *   JAM (P2111 stuck open, P2112 stuck closed), closed loop only: the target is at least
+ *   JAM (P2111 stuck open, P2112 stuck closed): the target (closed loop: the application's;
+ *     open loop, app.c: the stop the voltage pushes toward, so a plate resting at that stop
+ *     passes) is at least
  *     jam_error_rad from the estimated angle, the applied voltage pushes toward it with at least
  *     jam_u_min_V and at least jam_break_factor times the model's breakaway voltage u_break (the
  *     stall voltage whose torque equals preload + spring + static friction: below it a healthy
