@@ -62,9 +62,11 @@ static void app_ok(app_t *app)
     app_config_t cfg;
     app_config_default(&cfg);
     /* step_at_rest() feeds no current while the bridge drives: to the open-winding check that is
-     * an open winding (P2100, safe state). These tests are about the protocol: its threshold is
-     * put out of reach. */
+     * an open winding (P2100, safe state), and a plate that stays at rest under an open-loop
+     * sine a jam (P2111/P2112, safe state). These tests are about the protocol: both thresholds
+     * are put out of reach. */
     cfg.diag.open_u_min_V = TV_R(1e3);
+    cfg.diag.jam_u_min_V = TV_R(1e3);
     TV_CHECK_EQ_INT(app_init(app, &cfg), TV_OK);
 }
 

@@ -12,7 +12,9 @@
 #include <string.h>
 
 #include "app.h"
+#include "plant_draw.h"
 #include "sim.h"
+#include "sim_unit.h"
 #include "stop_track.h"
 #include "tv_status.h"
 #include "tv_test.h"
@@ -93,6 +95,7 @@ static void test_onsets_converge_to_the_true_ones(void)
     st_t t;
     int moved;
     st_config_default(&c);
+    c.envelope = 0u; /* learned stops: the envelope of unlearned ones is off */
     TV_CHECK_EQ_INT(st_reset(&t, &c, R(-0.100), R(1.366)), TV_OK);
     /* the open stop 3 mrad farther out than its reference, pressed with 1 N m */
     moved = feed(&t, &p, +1, 1.369, 1.0, 40);
@@ -117,6 +120,7 @@ static void test_no_update_without_a_resting_pressed_plate(void)
     int k;
     int moved = 0;
     st_config_default(&c);
+    c.envelope = 0u; /* learned stops: the envelope of unlearned ones is off */
     TV_CHECK_EQ_INT(st_reset(&t, &c, R(-0.100), R(1.366)), TV_OK);
     /* a push below push_min_Nm */
     TV_CHECK_EQ_INT(feed(&t, &p, +1, 1.369, 0.1, 10), 0);
@@ -152,6 +156,7 @@ static void test_a_stop_beyond_the_window_is_refused(void)
     st_config_t c;
     st_t t;
     st_config_default(&c);
+    c.envelope = 0u; /* learned stops: the envelope of unlearned ones is off */
     TV_CHECK_EQ_INT(st_reset(&t, &c, R(-0.100), R(1.366)), TV_OK);
     /* 8 mrad beyond the reference, window 5 mrad */
     TV_CHECK_EQ_INT(feed(&t, &p, +1, 1.374, 1.0, 10), 0);
@@ -192,6 +197,102 @@ static void test_in_the_application(void)
     }
 }
 
+/* The stop envelope (stops never learned), worked by hand: env_min_rad 1 mrad. */
+static void test_envelope_of_unlearned_stops(void)
+{
+    const tvm_params_t p = law_model();
+    st_config_t c;
+    st_t t;
+    st_config_default(&c);
+    TV_CHECK_EQ_INT((int)c.envelope, 1); /* on by default: the class's stops are not the unit's */
+    TV_CHECK_EQ_INT(st_reset(&t, &c, R(-0.100), R(1.366)), TV_OK);
+    /* measured 5 mrad beyond the open onset, the prediction held at the onset, a 2 mrad step:
+     * the onset goes to 1.371 + 0.002 + 0.001 = 1.374 */
+    TV_CHECK_EQ_INT(st_envelope(&t, R(1.371), R(1.366), R(0.002)), 1);
+    TV_CHECK_NEAR(t.onset[ST_OPEN], 1.374, 1e-6);
+    TV_CHECK_NEAR(t.ref[ST_OPEN], 1.374, 1e-6);
+    TV_CHECK(t.onset[ST_CLOSED] == (tv_real_t)-0.100);
+    /* the closed stop: measured -0.120, predicted -0.101, step -1 mrad: -0.120 - 0.001 - 0.001 */
+    TV_CHECK_EQ_INT(st_envelope(&t, R(-0.120), R(-0.101), R(-0.001)), 1);
+    TV_CHECK_NEAR(t.onset[ST_CLOSED], -0.122, 1e-6);
+    TV_CHECK_EQ_INT((int)t.n_envelope, 2);
+    /* a penetration the model predicted (measured within 1 mrad of the prediction): no move */
+    TV_CHECK_EQ_INT(st_envelope(&t, R(1.378), R(1.3775), R(0.0)), 0);
+    /* beyond the prediction but not 1 mrad beyond the onset: no move */
+    TV_CHECK_EQ_INT(st_envelope(&t, R(1.3745), R(1.370), R(0.0)), 0);
+    /* inward (the plate short of the onset, the prediction beyond it): never moves inward */
+    TV_CHECK_EQ_INT(st_envelope(&t, R(1.360), R(1.380), R(0.0)), 0);
+    TV_CHECK_NEAR(t.onset[ST_OPEN], 1.374, 1e-6);
+    TV_CHECK_EQ_INT(st_envelope(&t, (tv_real_t)NAN, R(1.37), R(0.0)), 0);
+    /* unlearned stops may lie farther than window_rad: a rest block 8 mrad beyond the reference is
+     * accepted (the learned-stop case refuses it: test_a_stop_beyond_the_window_is_refused), and
+     * so is one whose velocity estimate is biased (0.8 rad/s at rest) */
+    TV_CHECK_EQ_INT(st_reset(&t, &c, R(-0.100), R(1.366)), TV_OK);
+    TV_CHECK_EQ_INT(feed(&t, &p, +1, 1.374, 1.0, 10), 10);
+    TV_CHECK_EQ_INT((int)t.n_refused, 0);
+    TV_CHECK(t.onset[ST_OPEN] > (tv_real_t)1.366 + R(0.005));
+    {
+        int k;
+        int moved = 0;
+        for (k = 0; k < (int)c.block; ++k) {
+            moved += st_step(&t, &p, R(1.3675), 1, R(current_for_push(&p, +1, 1.3675, 1.0)), R(0.8));
+        }
+        TV_CHECK_EQ_INT(moved, 1);
+    }
+    /* off: nothing */
+    c.envelope = 0u;
+    TV_CHECK_EQ_INT(st_reset(&t, &c, R(-0.100), R(1.366)), TV_OK);
+    TV_CHECK_EQ_INT(st_envelope(&t, R(1.371), R(1.366), R(0.002)), 0);
+    TV_CHECK(t.onset[ST_OPEN] == (tv_real_t)1.366);
+    c.env_min_rad = R(0.0);
+    TV_CHECK_EQ_INT(st_config_check(&c), TV_ERR_CONFIG);
+    st_config_default(&c);
+    c.env_window_rad = (tv_real_t)NAN;
+    TV_CHECK_EQ_INT(st_config_check(&c), TV_ERR_NONFINITE);
+}
+
+/* In the application, stops never learned: unit 1005 (class a, stops spread) has its stops 49 and
+ * 112 mrad beyond the class's; in open_steps the envelope and the unlearned rest blocks bring both
+ * onsets within 10 mrad of the plant's, where they stay put without it. app_set_stops() (stored
+ * or learned stops) turns the envelope off. */
+static void test_unlearned_stops_in_the_application(void)
+{
+    static plant_config_t pc;
+    static app_config_t ac;
+    sim_options_t o;
+    sim_result_t r;
+    TV_CHECK_EQ_INT(plant_draw(PLANT_CLASS_A, PLANT_SPREAD_STOPS, 1005u, &pc), TV_OK);
+    TV_CHECK_EQ_INT(sim_app_config_for_unit(PLANT_CLASS_A, &pc, &ac), TV_OK);
+    sim_options_default(&o);
+    o.scenario = SIM_SCN_OPEN_STEPS;
+    o.plant = &pc;
+    o.app = &ac;
+    TV_CHECK_EQ_INT(sim_run(&o, &r), TV_OK);
+    printf("  unit 1005 unlearned: onsets %.4f / %.4f rad, plant %.4f / %.4f; velocity RMSE %.3f rad/s (differentiation %.3f)\n",
+           r.stop_onset_rad[0], r.stop_onset_rad[1], pc.phi_closed_rad, pc.phi_open_rad, r.rmse[SIM_EST_APP][TVM_W],
+           r.rmse[SIM_EST_MEASURED][TVM_W]);
+    TV_CHECK(fabs(r.stop_onset_rad[0] - pc.phi_closed_rad) <= 0.010);
+    TV_CHECK(fabs(r.stop_onset_rad[1] - pc.phi_open_rad) <= 0.010);
+    {
+        sim_result_t off;
+        ac.stop_track.envelope = 0u;
+        TV_CHECK_EQ_INT(sim_run(&o, &off), TV_OK);
+        printf("  without the envelope: onsets %.4f / %.4f rad; velocity RMSE %.3f rad/s\n", off.stop_onset_rad[0],
+               off.stop_onset_rad[1], off.rmse[SIM_EST_APP][TVM_W]);
+        TV_CHECK(fabs(off.stop_onset_rad[1] - pc.phi_open_rad) > 0.05);
+        TV_CHECK(r.rmse[SIM_EST_APP][TVM_W] < off.rmse[SIM_EST_APP][TVM_W]);
+    }
+    {
+        static app_t app;
+        app_config_t cfg;
+        app_config_default(&cfg);
+        TV_CHECK_EQ_INT(app_init(&app, &cfg), TV_OK);
+        TV_CHECK_EQ_INT((int)app.st.cfg.envelope, 1);
+        TV_CHECK_EQ_INT(app_set_stops(&app, R(-0.12), R(1.40)), TV_OK);
+        TV_CHECK_EQ_INT((int)app.st.cfg.envelope, 0);
+    }
+}
+
 int main(void)
 {
     printf("online stop tracking (%s)\n", TV_REAL_IS_DOUBLE ? "double" : "float");
@@ -200,5 +301,7 @@ int main(void)
     TV_TEST_RUN(test_no_update_without_a_resting_pressed_plate);
     TV_TEST_RUN(test_a_stop_beyond_the_window_is_refused);
     TV_TEST_RUN(test_in_the_application);
+    TV_TEST_RUN(test_envelope_of_unlearned_stops);
+    TV_TEST_RUN(test_unlearned_stops_in_the_application);
     return tv_test_summary();
 }

@@ -247,7 +247,9 @@ int app_set_stops(app_t *app, tv_real_t phi_closed_rad, tv_real_t phi_open_rad)
     }
     rc = use_stops(app, phi_closed_rad, phi_open_rad);
     if (rc == TV_OK) {
-        /* the new stops are the tracker's reference (its window is around them) */
+        /* the new stops are the tracker's reference (its window is around them); they are
+         * learned or stored stops, so the envelope of unlearned ones is off from now on */
+        app->cfg.stop_track.envelope = 0u;
         (void)st_reset(&app->st, &app->cfg.stop_track, phi_closed_rad, phi_open_rad);
     }
     return rc;
@@ -750,7 +752,12 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     if (app->cfg.control.mode != APP_MODE_STOP_LEARN && out->ekf_status == TV_OK && periods > 0u) {
         tv_real_t xs[TVM_NX];
         ekf_state(&app->ekf, xs);
-        if (st_step(&app->st, &app->ekf.model.p, angle, angle_ok, xs[TVM_I], xs[TVM_W])) {
+        /* the stop envelope (unlearned stops): this sample's angle against the prediction it corrected */
+        const int moved = angle_ok && out->innov.used[EKF_CH_ANGLE]
+                              ? st_envelope(&app->st, angle, angle - out->innov.innov[EKF_CH_ANGLE],
+                                            app->have_last_angle ? angle - app->last_angle_rad : TV_R(0.0))
+                              : 0;
+        if (st_step(&app->st, &app->ekf.model.p, angle, angle_ok, xs[TVM_I], xs[TVM_W]) || moved) {
             (void)use_stops(app, app->st.onset[ST_CLOSED], app->st.onset[ST_OPEN]);
         }
     }

@@ -23,6 +23,9 @@ void st_config_default(st_config_t *cfg)
     cfg->push_max_Nm = TV_R(3.0);
     cfg->gain = TV_R(0.2);
     cfg->window_rad = TV_R(0.005);
+    cfg->envelope = 1u;
+    cfg->env_min_rad = TV_R(0.001);
+    cfg->env_window_rad = TV_R(0.1);
 }
 
 int st_config_check(const st_config_t *cfg)
@@ -32,13 +35,15 @@ int st_config_check(const st_config_t *cfg)
     }
     if (!TV_IS_FINITE(cfg->rest_band_rad) || !TV_IS_FINITE(cfg->w_rest_rad_s) || !TV_IS_FINITE(cfg->near_rad) ||
         !TV_IS_FINITE(cfg->push_min_Nm) || !TV_IS_FINITE(cfg->push_max_Nm) || !TV_IS_FINITE(cfg->gain) ||
-        !TV_IS_FINITE(cfg->window_rad)) {
+        !TV_IS_FINITE(cfg->window_rad) || !TV_IS_FINITE(cfg->env_min_rad) ||
+        !TV_IS_FINITE(cfg->env_window_rad)) {
         return TV_ERR_NONFINITE;
     }
     if (cfg->enable > 1u || cfg->block < 20u || cfg->block > ST_BLOCK_MAX || !(cfg->rest_band_rad > TV_R(0.0)) ||
         !(cfg->w_rest_rad_s > TV_R(0.0)) || cfg->near_rad < TV_R(0.0) || !(cfg->push_min_Nm > TV_R(0.0)) ||
         !(cfg->push_max_Nm > cfg->push_min_Nm) || !(cfg->gain > TV_R(0.0)) || cfg->gain > TV_R(1.0) ||
-        !(cfg->window_rad > TV_R(0.0))) {
+        !(cfg->window_rad > TV_R(0.0)) || cfg->envelope > 1u || !(cfg->env_min_rad > TV_R(0.0)) ||
+        !(cfg->env_window_rad > TV_R(0.0))) {
         return TV_ERR_CONFIG;
     }
     return TV_OK;
@@ -77,6 +82,7 @@ int st_reset(st_t *t, const st_config_t *cfg, tv_real_t closed_rad, tv_real_t op
     t->onset[ST_OPEN] = open_rad;
     t->n_accepted = 0u;
     t->n_refused = 0u;
+    t->n_envelope = 0u;
     block_restart(t);
     return TV_OK;
 }
@@ -108,18 +114,21 @@ static int block_done(st_t *t, const tvm_params_t *model)
     if (t->phi_max - t->phi_min > t->cfg.rest_band_rad) {
         return 0; /* not at rest */
     }
-    /* beyond the onset, or within near_rad before it: s (phi - onset) >= -near */
-    if (s * (phi - t->onset[q]) < -t->cfg.near_rad) {
+    /* beyond the onset, or within near_rad before it: s (phi - onset) >= -near; stops never
+     * learned (envelope on) may lie anywhere within env_window_rad */
+    const tv_real_t near = t->cfg.envelope ? t->cfg.env_window_rad : t->cfg.near_rad;
+    const tv_real_t window = t->cfg.envelope ? t->cfg.env_window_rad : t->cfg.window_rad;
+    if (s * (phi - t->onset[q]) < -near) {
         return 0;
     }
-    if (push < t->cfg.push_min_Nm || push > t->cfg.push_max_Nm) {
+    if (push < t->cfg.push_min_Nm || (!t->cfg.envelope && push > t->cfg.push_max_Nm)) {
         return 0;
     }
     a = phi - s * penetration(model, push);
     if (!TV_IS_FINITE(a)) {
         return 0;
     }
-    if (TV_FABS(a - t->ref[q]) > t->cfg.window_rad) {
+    if (TV_FABS(a - t->ref[q]) > window) {
         ++t->n_refused;
         return 0;
     }
@@ -135,8 +144,11 @@ int st_step(st_t *t, const tvm_params_t *model, tv_real_t phi_rad, int phi_valid
     if (t == NULL || model == NULL || !t->cfg.enable) {
         return 0;
     }
+    /* the estimated velocity is a rest criterion only with learned stops: against a stop the model
+     * does not know yet the estimate is what is wrong (it holds a steady bias), the measured angle
+     * range then decides alone */
     if (!phi_valid || !TV_IS_FINITE(phi_rad) || !TV_IS_FINITE(i_A) || !TV_IS_FINITE(w_rad_s) ||
-        TV_FABS(w_rad_s) >= t->cfg.w_rest_rad_s) {
+        (!t->cfg.envelope && TV_FABS(w_rad_s) >= t->cfg.w_rest_rad_s)) {
         block_restart(t);
         return 0;
     }
@@ -160,4 +172,27 @@ int st_step(st_t *t, const tvm_params_t *model, tv_real_t phi_rad, int phi_valid
         block_restart(t);
     }
     return moved;
+}
+
+int st_envelope(st_t *t, tv_real_t phi_meas, tv_real_t phi_pred, tv_real_t step_rad)
+{
+    const tv_real_t thr = t->cfg.env_min_rad;
+    int q;
+    if (t == NULL || !t->cfg.enable || !t->cfg.envelope || !TV_IS_FINITE(phi_meas) || !TV_IS_FINITE(phi_pred) ||
+        !TV_IS_FINITE(step_rad)) {
+        return 0;
+    }
+    for (q = 0; q < ST_NSTOPS; ++q) {
+        const tv_real_t s = q == ST_CLOSED ? TV_R(-1.0) : TV_R(1.0);
+        /* an onset never crosses zero (limp-home lies between the stops): the sign test */
+        if (s * (phi_meas - t->onset[q]) > t->cfg.env_min_rad && s * (phi_meas - phi_pred) > thr && s * phi_meas > TV_R(0.0)) {
+            const tv_real_t o = phi_meas + s * (TV_FABS(step_rad) + t->cfg.env_min_rad);
+            t->onset[q] = o;
+            t->ref[q] = o;
+            ++t->n_envelope;
+            block_restart(t);
+            return 1;
+        }
+    }
+    return 0;
 }

@@ -56,6 +56,20 @@ typedef struct {
     tv_real_t push_max_Nm;    /**< largest, > push_min_Nm; default 3 */
     tv_real_t gain;           /**< low-pass gain per accepted block, (0, 1]; default 0.2 */
     tv_real_t window_rad;     /**< the onsets stay within this of their reference, > 0; default 0.005 */
+    uint8_t envelope;         /**< 1: the stop envelope runs (st_envelope()): the stops are not learned yet
+                                   (the default: the class's nominal stops); 0: off. app_set_stops() (learned
+                                   or stored stops) turns it off, and so must a configuration whose stops were
+                                   learned (sim_apply_stop_learning(), parameter key stop_track.envelope) */
+    tv_real_t env_min_rad;    /**< envelope: least distance of the measured angle beyond an onset AND beyond the
+                                   estimator's prediction [rad], > 0; default 0.001 (10 x the angle noise of a
+                                   12-bit track; the innovation's own sigma is NOT used: inflated by the very
+                                   contact error, it kept the envelope from acting: measured) */
+    tv_real_t env_window_rad; /**< while the stops were never learned (envelope on), a rest block may lie this far
+                                   before an onset and move it this far from its reference (near_rad and
+                                   window_rad apply to learned stops) [rad], > 0; default 0.1 (the population's
+                                   stops spread 0.1 rad); also, while unlearned, a block needs neither
+                                   |estimated w| < w_rest_rad_s (the estimate is what a stop the model does not
+                                   know biases) nor a push below push_max_Nm */
 } st_config_t;
 
 /** Tracker state. */
@@ -71,6 +85,7 @@ typedef struct {
     /* counters */
     uint32_t n_accepted;         /**< blocks that moved an onset */
     uint32_t n_refused;          /**< blocks at a stop that would have left the window */
+    uint32_t n_envelope;         /**< samples whose measured angle pushed an onset out (st_envelope()) */
 } st_t;
 
 /** Defaults as documented at st_config_t. */
@@ -93,6 +108,28 @@ int st_reset(st_t *t, const st_config_t *cfg, tv_real_t closed_rad, tv_real_t op
  * @return 1 when a block was accepted and an onset moved (read t->onset), 0 otherwise.
  */
 int st_step(st_t *t, const tvm_params_t *model, tv_real_t phi_rad, int phi_valid, tv_real_t i_A, tv_real_t w_rad_s);
+
+/**
+ * The stop envelope, for stops that were never learned. The plate cannot be measured far beyond
+ * a stop: when the measured angle phi_meas lies more than env_min_rad beyond an onset (s (phi_meas
+ * - onset) > env_min_rad, s = -1 closed, +1 open) AND beyond the estimator's predicted angle
+ * phi_pred by more than env_min_rad as well (so a penetration the model's own contact law
+ * predicts, at an impact, is not
+ * taken for a misplaced stop), that stop is farther out than the model's, and its onset moves out
+ * at once to phi_meas + s (step_rad + env_min_rad), step_rad being the plate's last measured step
+ * |phi - phi_previous| (so a plate still travelling toward the real stop does not run into the
+ * model's again at the next sample: each such sample puts a wrong contact torque into the
+ * prediction); the tracker's reference moves with it (the rest blocks of st_step() then
+ * refine it within window_rad). Outward only: a stop nearer than the model's holds the plate
+ * before the model's onset, which st_step() sees within near_rad. A soft stop is left at the
+ * deepest angle the plate reached in it (its impact). With learned stops it is off (a learned
+ * soft law lets the plate in farther): st_config_t::envelope. This is what keeps a filter whose
+ * stops were never learned from predicting the contact force of a stop the plate has already
+ * passed (README "Stop contact": without it, worse than differentiating the angle on units whose
+ * stops lie a few hundredths beyond the defaults).
+ * @return 1 when an onset moved (read t->onset), 0 otherwise (also for invalid input or envelope off).
+ */
+int st_envelope(st_t *t, tv_real_t phi_meas, tv_real_t phi_pred, tv_real_t step_rad);
 
 #ifdef __cplusplus
 }

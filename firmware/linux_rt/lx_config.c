@@ -611,6 +611,11 @@ void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
                 any = 1;
             }
         }
+        if (!isnan(cfg->model_phi_closed_rad) || !isnan(cfg->model_phi_open_rad)) {
+            /* stops given (configuration or app.stops_file): known, so the envelope of
+             * never-learned stops is off (stop_track.h) */
+            app->stop_track.envelope = 0u;
+        }
         if (any) {
             /* an invalid model fails here and again, with its status, in app_init() */
             (void)ekf_q_from_spectral(&app->model, EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S, app->ekf.Q);

@@ -449,6 +449,11 @@ int params_apply(const params_t *p, app_config_t *cfg, char *err, size_t cap)
             c.model.substeps = (int)p->value[k];
         }
     }
+    if (p->line[K_PHI_CLOSED] != 0u || p->line[K_PHI_OPEN] != 0u) {
+        /* a file that names the stops gives known (learned or identified) stops: the envelope of
+         * never-learned stops is off (stop_track.h) */
+        c.stop_track.envelope = 0u;
+    }
     rc = rule(p, K_MC, (double)c.model.Mc_Nm, K_MS, (double)c.model.Ms_Nm, 0, err, cap);
     if (rc == TV_OK) {
         rc = rule(p, K_LIM_CUR_MIN, (double)c.limits.current_min_counts, K_LIM_CUR_MAX,

@@ -82,6 +82,7 @@ int sim_apply_stop_learning(const sim_result_t *r, app_config_t *cfg)
     }
     cfg->model.phi_closed_rad = (tv_real_t)r->stop_learn_onset_closed_rad;
     cfg->model.phi_open_rad = (tv_real_t)r->stop_learn_onset_open_rad;
+    cfg->stop_track.envelope = 0u; /* learned stops: the envelope of unlearned ones is off */
     cfg->model.k_stop_Nm_rad = (tv_real_t)r->stop_learn_k;
     cfg->model.stop_exponent = (tv_real_t)r->stop_learn_exponent;
     cfg->model.d_stop_Nm_s_rad = cfg->stop_learn.lambda_per_k_s_rad * (tv_real_t)r->stop_learn_k;

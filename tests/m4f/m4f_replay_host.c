@@ -98,7 +98,7 @@ static int cmd_run(const char *in_path, const char *out_path)
     uint8_t obuf[TVLOG_OUT_BYTES];
     FILE *f;
     if (in == NULL || len < TVLOG_HEADER_BYTES || tvlog_header_decode(in, TVLOG_MAGIC_IN, TVLOG_IN_BYTES, &n) != 0 ||
-        len != TVLOG_HEADER_BYTES + (size_t)n * TVLOG_IN_BYTES || tvlog_replay_init(&app) != 0) {
+        len != TVLOG_HEADER_BYTES + (size_t)n * TVLOG_IN_BYTES || tvlog_replay_init(&app, 1) != 0) {
         fprintf(stderr, "run: bad input %s\n", in_path);
         free(in);
         return 2;

@@ -188,7 +188,7 @@ static int run(const char *path)
         fail("run: cannot read the input");
     }
     (void)sh_close(fd);
-    if (tvlog_replay_init(&s_app) != 0) {
+    if (tvlog_replay_init(&s_app, 0) != 0) {
         fail("run: app_init failed");
     }
     for (k = 0u; k < n; ++k) {

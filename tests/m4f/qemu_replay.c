@@ -63,7 +63,7 @@ int main(void)
         tvlog_header_decode(hdr, TVLOG_MAGIC_IN, TVLOG_IN_BYTES, &n_rec) != 0) {
         fail("bad input header");
     }
-    if (tvlog_replay_init(&s_app) != 0) {
+    if (tvlog_replay_init(&s_app, 1) != 0) {
         fail("app_init failed");
     }
     tvlog_header_encode(hdr, TVLOG_MAGIC_OUT, n_rec, TVLOG_OUT_BYTES);

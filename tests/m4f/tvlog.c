@@ -79,10 +79,13 @@ void tvlog_in_decode(const uint8_t b[TVLOG_IN_BYTES], tvlog_in_t *r)
     r->cmd_arg = bitsf(get32(b + 20));
 }
 
-int tvlog_replay_init(app_t *app)
+int tvlog_replay_init(app_t *app, int stops_known)
 {
     app_config_t cfg;
     app_config_default(&cfg);
+    if (stops_known) {
+        cfg.stop_track.envelope = 0u;
+    }
     return app_init(app, &cfg);
 }
 

@@ -61,7 +61,7 @@ int tvlog_gen_init(tvlog_gen_t *g, uint32_t steps, uint64_t seed)
     plant_config_default(&pc);
     rc = plant_init(&g->plant, &pc, seed);
     if (rc == TV_OK) {
-        rc = tvlog_replay_init(&g->app);
+        rc = tvlog_replay_init(&g->app, 1);
     }
     g->k = 0u;
     g->steps = steps;
