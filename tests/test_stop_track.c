@@ -206,11 +206,14 @@ static void test_envelope_of_unlearned_stops(void)
     st_config_default(&c);
     TV_CHECK_EQ_INT((int)c.envelope, 1); /* on by default: the class's stops are not the unit's */
     TV_CHECK_EQ_INT(st_reset(&t, &c, R(-0.100), R(1.366)), TV_OK);
+    TV_CHECK_EQ_INT(st_model_in_doubt(&t), 0); /* nothing seen yet */
     /* measured 5 mrad beyond the open onset, the prediction held at the onset, a 2 mrad step:
      * the onset goes to 1.371 + 0.002 + 0.001 = 1.374 */
     TV_CHECK_EQ_INT(st_envelope(&t, R(1.371), R(1.366), R(0.002)), 1);
     TV_CHECK_NEAR(t.onset[ST_OPEN], 1.374, 1e-6);
     TV_CHECK_NEAR(t.ref[ST_OPEN], 1.374, 1e-6);
+    /* 8 mrad from where it started, more than window_rad (5 mrad): the model's stops are in doubt */
+    TV_CHECK_EQ_INT(st_model_in_doubt(&t), 1);
     TV_CHECK(t.onset[ST_CLOSED] == (tv_real_t)-0.100);
     /* the closed stop: measured -0.120, predicted -0.101, step -1 mrad: -0.120 - 0.001 - 0.001 */
     TV_CHECK_EQ_INT(st_envelope(&t, R(-0.120), R(-0.101), R(-0.001)), 1);
@@ -239,11 +242,19 @@ static void test_envelope_of_unlearned_stops(void)
         }
         TV_CHECK_EQ_INT(moved, 1);
     }
-    /* off: nothing */
+    /* a move of 3 mrad is no doubt (within window_rad) */
+    TV_CHECK_EQ_INT(st_reset(&t, &c, R(-0.100), R(1.366)), TV_OK);
+    TV_CHECK_EQ_INT(st_envelope(&t, R(1.3675), R(1.366), R(0.0005)), 1); /* 1.3675 + 0.0005 + 0.001 = 1.369 */
+    TV_CHECK_NEAR(t.onset[ST_OPEN], 1.369, 1e-6);
+    TV_CHECK_EQ_INT(st_model_in_doubt(&t), 0);
+    TV_CHECK_EQ_INT(st_model_in_doubt(NULL), 0);
+    /* off: nothing, and never in doubt (the stops are learned) */
     c.envelope = 0u;
     TV_CHECK_EQ_INT(st_reset(&t, &c, R(-0.100), R(1.366)), TV_OK);
     TV_CHECK_EQ_INT(st_envelope(&t, R(1.371), R(1.366), R(0.002)), 0);
     TV_CHECK(t.onset[ST_OPEN] == (tv_real_t)1.366);
+    t.onset[ST_OPEN] = R(1.40);
+    TV_CHECK_EQ_INT(st_model_in_doubt(&t), 0);
     c.env_min_rad = R(0.0);
     TV_CHECK_EQ_INT(st_config_check(&c), TV_ERR_CONFIG);
     st_config_default(&c);

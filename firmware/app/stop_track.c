@@ -80,6 +80,8 @@ int st_reset(st_t *t, const st_config_t *cfg, tv_real_t closed_rad, tv_real_t op
     t->ref[ST_OPEN] = open_rad;
     t->onset[ST_CLOSED] = closed_rad;
     t->onset[ST_OPEN] = open_rad;
+    t->start[ST_CLOSED] = closed_rad;
+    t->start[ST_OPEN] = open_rad;
     t->n_accepted = 0u;
     t->n_refused = 0u;
     t->n_envelope = 0u;
@@ -195,4 +197,13 @@ int st_envelope(st_t *t, tv_real_t phi_meas, tv_real_t phi_pred, tv_real_t step_
         }
     }
     return 0;
+}
+
+int st_model_in_doubt(const st_t *t)
+{
+    if (t == NULL || !t->cfg.envelope) {
+        return 0;
+    }
+    return TV_FABS(t->onset[ST_CLOSED] - t->start[ST_CLOSED]) > t->cfg.window_rad ||
+           TV_FABS(t->onset[ST_OPEN] - t->start[ST_OPEN]) > t->cfg.window_rad;
 }

@@ -86,6 +86,7 @@ typedef struct {
     uint32_t n_accepted;         /**< blocks that moved an onset */
     uint32_t n_refused;          /**< blocks at a stop that would have left the window */
     uint32_t n_envelope;         /**< samples whose measured angle pushed an onset out (st_envelope()) */
+    tv_real_t start[ST_NSTOPS];  /**< the onsets given at st_reset() [rad] */
 } st_t;
 
 /** Defaults as documented at st_config_t. */
@@ -108,6 +109,16 @@ int st_reset(st_t *t, const st_config_t *cfg, tv_real_t closed_rad, tv_real_t op
  * @return 1 when a block was accepted and an onset moved (read t->onset), 0 otherwise.
  */
 int st_step(st_t *t, const tvm_params_t *model, tv_real_t phi_rad, int phi_valid, tv_real_t i_A, tv_real_t w_rad_s);
+
+/**
+ * 1 when the stops were never learned (envelope on) AND the unit has shown them to be elsewhere:
+ * an onset moved more than window_rad from where st_reset() put it (by the envelope or by a rest
+ * block). The model's stops, and with them its contact, are then in doubt until the start-up
+ * routine runs; the application holds the diagnostic checks that judge against the model's
+ * mechanics (the adapted friction and preload, the open-loop jam) meanwhile. 0 otherwise, and
+ * for NULL. A unit whose stops are the defaults (the nominal unit) never raises it.
+ */
+int st_model_in_doubt(const st_t *t);
 
 /**
  * The stop envelope, for stops that were never learned. The plate cannot be measured far beyond
