@@ -596,6 +596,16 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
             out->duty = out->duty > lim ? lim : (out->duty < -lim ? -lim : out->duty);
             app->u_applied_V = (tv_real_t)out->duty * out->supply_V;
         }
+        if (out->bridge_enable && action != DIAG_ACTION_SAFE) {
+            /* the bridge check's reverse pulse: one period the other way at the limited duty
+             * (no current and no motion under drive: an open winding or a lost direction) */
+            const int dir = diag_probe_direction(&app->ddet);
+            if (dir != 0) {
+                out->duty = dir > 0 ? (float)DIAG_LIMITED_DUTY : -(float)DIAG_LIMITED_DUTY;
+                app->u_applied_V = (tv_real_t)out->duty * out->supply_V;
+                diag_probe_done(&app->ddet);
+            }
+        }
         app->diag_bridge_on = out->bridge_enable;
     }
     {

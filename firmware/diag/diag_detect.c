@@ -195,20 +195,55 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
         const int judged = meas_ok && dd->arm_inv_b > TV_R(0.0) && TV_IS_FINITE(emf_meas_V);
         const tv_real_t v = emf_meas_V + (current_A - dd->arm_a * i0) * dd->arm_inv_b;
         const int no_volt = judged && TV_FABS(v) < dd->cfg.bridge_lost_frac * au;
+        const int8_t dir = u_V > TV_R(0.0) ? (int8_t)1 : (int8_t)-1;
         const tv_real_t ratio = v / u_V;
+        const int bridge_suspect = d->code[DIAG_DTC_P1A03].counter > 0u || d->code[DIAG_DTC_P1A03].confirmed;
         if (TV_FABS(current_A) >= dd->cfg.open_i_max_A) {
-            /* the winding conducts: not open; the bridge judged while the back-EMF is not the larger */
+            /* the winding conducts: not open */
+            const int open_pending = d->code[DIAG_DTC_P2100].counter > 0u;
             (void)diag_report(d, DIAG_DTC_P2100, DIAG_PASS, snap, TV_FABS(current_A));
+            dd->probe_req = 0u;
             if (judged && TV_FABS(emf_meas_V) <= au) {
-                (void)diag_report(d, DIAG_DTC_P1A03, no_volt ? DIAG_FAIL : DIAG_PASS, snap, ratio);
+                diag_result_t r = DIAG_NOT_RUN;
+                if (no_volt) {
+                    r = DIAG_FAIL; /* current, but no voltage at the terminals: shorted by the bridge */
+                    dd->dead_dir = dir;
+                } else if (dd->dead_dir == -dir) {
+                    /* the other direction works: after no current in the suspected one (the
+                     * reverse pulse's answer), that direction is lost */
+                    r = open_pending ? DIAG_FAIL : DIAG_NOT_RUN;
+                } else {
+                    r = DIAG_PASS; /* this direction works */
+                    dd->dead_dir = bridge_suspect ? dd->dead_dir : (int8_t)0;
+                }
+                (void)diag_report(d, DIAG_DTC_P1A03, r, snap, ratio);
             }
-        } else if (no_volt && d->code[DIAG_DTC_P2100].counter == 0u &&
-                   (d->code[DIAG_DTC_P1A03].counter > 0u || d->code[DIAG_DTC_P1A03].confirmed)) {
-            /* no current, no motion: either fault; a conducting winding was seen first */
-            (void)diag_report(d, DIAG_DTC_P1A03, DIAG_FAIL, snap, ratio);
+        } else if (no_volt) {
+            /* no current, no motion: either fault. After evidence of a conducting winding, the
+             * bridge; else an open winding, and a reverse pulse is asked for to tell them apart */
+            dd->dead_dir = dir;
+            if (bridge_suspect) {
+                (void)diag_report(d, DIAG_DTC_P1A03, DIAG_FAIL, snap, ratio);
+            } else {
+                (void)diag_report(d, DIAG_DTC_P2100, DIAG_FAIL, snap, TV_FABS(current_A));
+                dd->probe_req = 1u;
+            }
         } else {
+            /* no current while the plate moves (or unjudged): the winding is open */
             (void)diag_report(d, DIAG_DTC_P2100, DIAG_FAIL, snap, TV_FABS(current_A));
         }
+    }
+}
+
+int diag_probe_direction(const diag_detect_t *dd)
+{
+    return dd != NULL && dd->probe_req ? -(int)dd->dead_dir : 0;
+}
+
+void diag_probe_done(diag_detect_t *dd)
+{
+    if (dd != NULL) {
+        dd->probe_req = 0u;
     }
 }
 

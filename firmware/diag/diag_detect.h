@@ -55,10 +55,16 @@
  *     v is about 0 while a current flows; an open winding carries no current at all (v = the
  *     floating back-EMF); a healthy bridge gives v about u. With |current| >= open_i_max_A and
  *     |e| <= |u|: |v| < bridge_lost_frac |u| fails P1A03 (and passes P2100: the winding
- *     conducts), else passes P1A03. No current: P2100 fails, unless the sample cannot tell the
- *     two apart (|v| < bridge_lost_frac |u| as well: the plate at rest, where the shorted and the
- *     open winding both carry nothing) while P1A03 is pending or confirmed and P2100 is not
- *     pending: then P1A03 fails (the evidence of a conducting winding came first).
+ *     conducts), else passes P1A03 (this direction works). No current while the plate moves
+ *     (|v| >= bridge_lost_frac |u|: the floating back-EMF): P2100 fails (open). No current and no
+ *     motion (|v| < bridge_lost_frac |u|): both faults look alike (nothing flows, nothing moves;
+ *     the terminal voltage is not measured): P2100 fails as before (its 10 ms target), the
+ *     direction is suspected, and the detector asks for a REVERSE PULSE: the application drives
+ *     the next period the other way (diag_probe_direction(), one period at the limited duty). If
+ *     current then flows while P2100 is pending, the winding conducts: P2100 passes and P1A03
+ *     fails, and later motionless no-current samples fail P1A03 instead of P2100 (as long as
+ *     P1A03 is pending or confirmed); a sample in the other, working direction neither passes nor
+ *     fails P1A03. An open winding never conducts: its pulses fail P2100 too.
  *   SUPPLY LOW (P0562): every DIAG_SUPPLY_DECIM calls, the measured supply below supply_low_V
  *     fails, at or above supply_low_V + supply_hyst_V passes, in between nothing.
  *   TRACK CIRCUIT LOW (P0122 track 1, P0222 track 2), an event counter: every sample whose
@@ -142,6 +148,8 @@ typedef struct {
     tv_real_t arm_a;       /**< a_T of the armature over one period (diag_detect_set_armature()) */
     tv_real_t arm_inv_b;   /**< 1 / b_T [ohm]; 0: not set, no bridge check */
     tv_real_t i_prev_A;    /**< the current measured at the last call of diag_open_check() (0 when not active) */
+    int8_t dead_dir;       /**< the drive direction suspected lost (+1, -1; 0: none) */
+    uint8_t probe_req;     /**< 1: a reverse pulse against dead_dir is asked for (diag_probe_direction()) */
 } diag_detect_t;
 
 /** Defaults (see diag_detect_config_t). Does nothing when cfg is NULL. */
@@ -207,6 +215,15 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
  * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (a_T not in [0, 1), b_T not > 0).
  */
 int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T);
+
+/**
+ * The reverse pulse the bridge check asks for (see the file comment).
+ * @return +1 or -1: drive the next period in this direction (then diag_probe_done()); 0: none
+ */
+int diag_probe_direction(const diag_detect_t *dd);
+
+/** The pulse was applied (or is no longer wanted). */
+void diag_probe_done(diag_detect_t *dd);
 
 /**
  * The supply check (see the file comment); reports P0562. Call once per step: it runs at every
