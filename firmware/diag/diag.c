@@ -21,8 +21,8 @@
  * discriminating sample; 1 s to heal). P0562 is checked every DIAG_SUPPLY_DECIM steps (10 ms):
  * 50 checks = 500 ms below the threshold confirm, 100 checks (1 s) above it heal. P0122 / P0222
  * count low samples (a failed check each) and pass once per DIAG_TPS_CLEAN_WINDOW clean samples
- * (500 ms): 10 dropouts without 500 ms of clean signal between them confirm (a steady 0 V in
- * 10 ms), 2 clean windows (1 s) heal. */
+ * (500 ms): 5 dropouts without 500 ms of clean signal between them confirm (a steady 0 V in
+ * 5 ms, as the range check's latch), 2 clean windows (1 s) heal. */
 static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
     {"P0121", "tps1_fault", "throttle position sensor 1 range/performance (track 1 named by the estimator's vote)", 20u, 1000u,
      DIAG_ACTION_LIMITED},
@@ -47,9 +47,9 @@ static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
     {"P1A03", "bridge_fault", "H-bridge: one drive direction lost (current flows, the terminals see no voltage; project code)", 10u,
      1000u, DIAG_ACTION_SAFE},
     {"P0562", "supply_sag", "system voltage low (measured supply below its threshold)", 50u, 100u, DIAG_ACTION_NONE},
-    {"P0122", "tps1_fault", "throttle position sensor 1 circuit low (track below its range, intermittent dropouts included)", 10u, 2u,
+    {"P0122", "tps1_fault", "throttle position sensor 1 circuit low (track below its range, intermittent dropouts included)", 5u, 2u,
      DIAG_ACTION_LIMITED},
-    {"P0222", "tps2_fault", "throttle position sensor 2 circuit low (track below its range, intermittent dropouts included)", 10u, 2u,
+    {"P0222", "tps2_fault", "throttle position sensor 2 circuit low (track below its range, intermittent dropouts included)", 5u, 2u,
      DIAG_ACTION_LIMITED},
 };
 
