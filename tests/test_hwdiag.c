@@ -52,13 +52,13 @@ static void test_supply_check_timing(void)
     fresh(&d, &dd);
     for (k = 1; k <= 5000; ++k) {
         s = snap_at((uint64_t)k * 1000u, TV_R(12.3));
-        diag_supply_check(&dd, &d, TV_R(12.3), &s);
+        diag_circuit_check(&dd, &d, 0, 0, TV_R(12.3), &s);
     }
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P0562) && !diag_confirmed(&d, DIAG_DTC_P0562));
     fresh(&d, &dd);
     for (k = 1; k <= 1000 && first < 0; ++k) {
         s = snap_at((uint64_t)k * 1000u, TV_R(11.4));
-        diag_supply_check(&dd, &d, TV_R(11.4), &s);
+        diag_circuit_check(&dd, &d, 0, 0, TV_R(11.4), &s);
         if (k == 9) {
             TV_CHECK(!diag_pending(&d, DIAG_DTC_P0562)); /* not checked before the 10th call */
         }
@@ -75,14 +75,14 @@ static void test_supply_check_timing(void)
     TV_CHECK_EQ_INT(d.code[DIAG_DTC_P0562].freeze.t_us, 500000u);
     TV_CHECK_EQ_INT(diag_action(&d), DIAG_ACTION_NONE); /* recorded only */
     for (k = 0; k < 5000; ++k) {
-        diag_supply_check(&dd, &d, TV_R(11.9), &s); /* hysteresis band: no pass */
+        diag_circuit_check(&dd, &d, 0, 0, TV_R(11.9), &s); /* hysteresis band: no pass */
     }
     TV_CHECK(diag_confirmed(&d, DIAG_DTC_P0562));
     for (k = 0; k < 999; ++k) {
-        diag_supply_check(&dd, &d, TV_R(12.0), &s);
+        diag_circuit_check(&dd, &d, 0, 0, TV_R(12.0), &s);
     }
     TV_CHECK(diag_confirmed(&d, DIAG_DTC_P0562));
-    diag_supply_check(&dd, &d, TV_R(12.0), &s);
+    diag_circuit_check(&dd, &d, 0, 0, TV_R(12.0), &s);
     TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P0562));
 }
 
@@ -101,7 +101,7 @@ static void test_track_low_counter(void)
     fresh(&d, &dd);
     for (k = 1; k <= 5; ++k) {
         s.t_us = (uint64_t)k * 1000u;
-        diag_tps_low_check(&dd, &d, 1, 0, &s);
+        diag_circuit_check(&dd, &d, 1, 0, TV_R(13.5), &s);
         TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P0122), k == 5);
     }
     TV_CHECK_NEAR(d.code[DIAG_DTC_P0122].freeze.value, 5.0, 1e-9);
@@ -110,15 +110,15 @@ static void test_track_low_counter(void)
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P0222) && !diag_confirmed(&d, DIAG_DTC_P0222));
     /* healing: 999 clean samples keep it, the 1,000th (2nd clean window) heals */
     for (k = 0; k < 999; ++k) {
-        diag_tps_low_check(&dd, &d, 0, 0, &s);
+        diag_circuit_check(&dd, &d, 0, 0, TV_R(13.5), &s);
     }
     TV_CHECK(diag_confirmed(&d, DIAG_DTC_P0122));
-    diag_tps_low_check(&dd, &d, 0, 0, &s);
+    diag_circuit_check(&dd, &d, 0, 0, TV_R(13.5), &s);
     TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P0122));
     /* 1 % dropouts on track 2 */
     fresh(&d, &dd);
     for (k = 0; k < 2000 && first < 0; ++k) {
-        diag_tps_low_check(&dd, &d, 0, k % 100 == 0, &s);
+        diag_circuit_check(&dd, &d, 0, k % 100 == 0, TV_R(13.5), &s);
         if (diag_confirmed(&d, DIAG_DTC_P0222)) {
             first = k;
         }
@@ -128,7 +128,7 @@ static void test_track_low_counter(void)
     /* dropouts 600 samples apart: pending, never confirmed */
     fresh(&d, &dd);
     for (k = 0; k < 20 * 600; ++k) {
-        diag_tps_low_check(&dd, &d, k % 600 == 0, 0, &s);
+        diag_circuit_check(&dd, &d, k % 600 == 0, 0, TV_R(13.5), &s);
     }
     TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P0122));
 }

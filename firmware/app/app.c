@@ -557,8 +557,8 @@ static diag_tps_use_t app_diag_pre(app_t *app, const app_input_t *in, tv_real_t 
                          (app->faults & (APP_FAULT_TPS1_RANGE | APP_FAULT_TPS2_RANGE)) == 0u &&
                          !app->diag.code[DIAG_DTC_P0122].confirmed && !app->diag.code[DIAG_DTC_P0222].confirmed;
     const int cur_ok = in->adc[0] >= lim->current_min_counts && in->adc[0] <= lim->current_max_counts;
-    diag_tps_low_check(&app->ddet, &app->diag, in->adc[1] < lim->tps_min_counts, in->adc[2] < lim->tps_min_counts, snap);
-    diag_supply_check(&app->ddet, &app->diag, snap->supply_V, snap);
+    diag_circuit_check(&app->ddet, &app->diag, in->adc[1] < lim->tps_min_counts, in->adc[2] < lim->tps_min_counts,
+                       snap->supply_V, snap);
     /* the back-EMF of the measured motion over the period that ended (the bridge check's): both
      * tracks now, and an angle one period ago */
     const int meas_ok = in_range && app->have_last_angle && in->t_us - app->last_angle_t_us == APP_PERIOD_US;
@@ -599,7 +599,7 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
         if (out->bridge_enable && action != DIAG_ACTION_SAFE) {
             /* the bridge check's reverse pulse: one period the other way at the limited duty
              * (no current and no motion under drive: an open winding or a lost direction) */
-            const int dir = diag_probe_direction(&app->ddet);
+            const int dir = app->ddet.probe_req ? diag_probe_direction(&app->ddet) : 0;
             if (dir != 0) {
                 out->duty = dir > 0 ? (float)DIAG_LIMITED_DUTY : -(float)DIAG_LIMITED_DUTY;
                 app->u_applied_V = (tv_real_t)out->duty * out->supply_V;

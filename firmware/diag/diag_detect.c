@@ -196,12 +196,13 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
         const tv_real_t v = emf_meas_V + (current_A - dd->arm_a * i0) * dd->arm_inv_b;
         const int no_volt = judged && TV_FABS(v) < dd->cfg.bridge_lost_frac * au;
         const int8_t dir = u_V > TV_R(0.0) ? (int8_t)1 : (int8_t)-1;
-        const tv_real_t ratio = v / u_V;
         const int bridge_suspect = d->code[DIAG_DTC_P1A03].counter > 0u || d->code[DIAG_DTC_P1A03].confirmed;
         if (TV_FABS(current_A) >= dd->cfg.open_i_max_A) {
-            /* the winding conducts: not open */
+            /* the winding conducts: not open (a pass changes nothing on an idle code: not reported) */
             const int open_pending = d->code[DIAG_DTC_P2100].counter > 0u;
-            (void)diag_report(d, DIAG_DTC_P2100, DIAG_PASS, snap, TV_FABS(current_A));
+            if (open_pending || d->code[DIAG_DTC_P2100].confirmed) {
+                (void)diag_report(d, DIAG_DTC_P2100, DIAG_PASS, snap, TV_FABS(current_A));
+            }
             dd->probe_req = 0u;
             if (judged && TV_FABS(emf_meas_V) <= au) {
                 diag_result_t r = DIAG_NOT_RUN;
@@ -212,18 +213,21 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
                     /* the other direction works: after no current in the suspected one (the
                      * reverse pulse's answer), that direction is lost */
                     r = open_pending ? DIAG_FAIL : DIAG_NOT_RUN;
-                } else {
+                } else if (bridge_suspect) {
                     r = DIAG_PASS; /* this direction works */
-                    dd->dead_dir = bridge_suspect ? dd->dead_dir : (int8_t)0;
+                } else {
+                    dd->dead_dir = 0; /* this direction works, nothing suspected: idle, no report */
                 }
-                (void)diag_report(d, DIAG_DTC_P1A03, r, snap, ratio);
+                if (r != DIAG_NOT_RUN) {
+                    (void)diag_report(d, DIAG_DTC_P1A03, r, snap, v / u_V);
+                }
             }
         } else if (no_volt) {
             /* no current, no motion: either fault. After evidence of a conducting winding, the
              * bridge; else an open winding, and a reverse pulse is asked for to tell them apart */
             dd->dead_dir = dir;
             if (bridge_suspect) {
-                (void)diag_report(d, DIAG_DTC_P1A03, DIAG_FAIL, snap, ratio);
+                (void)diag_report(d, DIAG_DTC_P1A03, DIAG_FAIL, snap, v / u_V);
             } else {
                 (void)diag_report(d, DIAG_DTC_P2100, DIAG_FAIL, snap, TV_FABS(current_A));
                 dd->probe_req = 1u;
@@ -247,30 +251,30 @@ void diag_probe_done(diag_detect_t *dd)
     }
 }
 
-void diag_supply_check(diag_detect_t *dd, diag_t *d, tv_real_t supply_V, const diag_snapshot_t *snap)
-{
-    if (dd == NULL || d == NULL || snap == NULL) {
-        return;
-    }
-    if (++dd->supply_tick < DIAG_SUPPLY_DECIM) {
-        return;
-    }
-    dd->supply_tick = 0u;
-    if (!TV_IS_FINITE(supply_V)) {
-        return;
-    }
-    if (supply_V < dd->cfg.supply_low_V) {
-        (void)diag_report(d, DIAG_DTC_P0562, DIAG_FAIL, snap, supply_V);
-    } else if (supply_V >= dd->cfg.supply_low_V + dd->cfg.supply_hyst_V) {
-        (void)diag_report(d, DIAG_DTC_P0562, DIAG_PASS, snap, supply_V);
-    }
-}
-
-void diag_tps_low_check(diag_detect_t *dd, diag_t *d, int low1, int low2, const diag_snapshot_t *snap)
+void diag_circuit_check(diag_detect_t *dd, diag_t *d, int low1, int low2, tv_real_t supply_V, const diag_snapshot_t *snap)
 {
     int k;
     if (dd == NULL || d == NULL || snap == NULL) {
         return;
+    }
+    /* supply, every DIAG_SUPPLY_DECIM calls */
+    if (++dd->supply_tick >= DIAG_SUPPLY_DECIM) {
+        dd->supply_tick = 0u;
+        if (supply_V < dd->cfg.supply_low_V) {
+            (void)diag_report(d, DIAG_DTC_P0562, DIAG_FAIL, snap, supply_V);
+        } else if (supply_V >= dd->cfg.supply_low_V + dd->cfg.supply_hyst_V) {
+            (void)diag_report(d, DIAG_DTC_P0562, DIAG_PASS, snap, supply_V);
+        } else {
+            /* inside the hysteresis (or not finite): not run */
+        }
+    }
+    /* tracks; the common case: both in range and no clean window complete */
+    if (!low1 && !low2) {
+        const uint16_t c0 = ++dd->tps_clean[0];
+        const uint16_t c1 = ++dd->tps_clean[1];
+        if (c0 < DIAG_TPS_CLEAN_WINDOW && c1 < DIAG_TPS_CLEAN_WINDOW) {
+            return;
+        }
     }
     for (k = 0; k < 2; ++k) {
         const diag_dtc_t code = k == 0 ? DIAG_DTC_P0122 : DIAG_DTC_P0222;
@@ -280,7 +284,12 @@ void diag_tps_low_check(diag_detect_t *dd, diag_t *d, int low1, int low2, const 
                 ++dd->tps_low_n[k];
             }
             (void)diag_report(d, code, DIAG_FAIL, snap, (tv_real_t)dd->tps_low_n[k]);
-        } else if (++dd->tps_clean[k] >= DIAG_TPS_CLEAN_WINDOW) {
+            continue;
+        }
+        if (low1 || low2) {
+            ++dd->tps_clean[k]; /* not counted above */
+        }
+        if (dd->tps_clean[k] >= DIAG_TPS_CLEAN_WINDOW) {
             dd->tps_clean[k] = 0u;
             dd->tps_low_n[k] = 0u;
             (void)diag_report(d, code, DIAG_PASS, snap, TV_R(0.0));

@@ -65,7 +65,7 @@
  *     fails, and later motionless no-current samples fail P1A03 instead of P2100 (as long as
  *     P1A03 is pending or confirmed); a sample in the other, working direction neither passes nor
  *     fails P1A03. An open winding never conducts: its pulses fail P2100 too.
- *   SUPPLY LOW (P0562): every DIAG_SUPPLY_DECIM calls, the measured supply below supply_low_V
+ *   SUPPLY LOW (P0562): every DIAG_SUPPLY_DECIM calls (diag_circuit_check()), the measured supply below supply_low_V
  *     fails, at or above supply_low_V + supply_hyst_V passes, in between nothing.
  *   TRACK CIRCUIT LOW (P0122 track 1, P0222 track 2), an event counter: every sample whose
  *     track reads below its range (the caller's tps_min_counts: a 0 V reading, a lost wiper) is a
@@ -94,7 +94,7 @@ extern "C" {
 /** The adapted-mechanics check runs every this many calls of diag_param_check() (10 ms at 1 kHz). */
 #define DIAG_PARAM_DECIM 10u
 
-/** The supply check runs every this many calls of diag_supply_check() (10 ms at 1 kHz). */
+/** The supply check runs every this many calls of diag_circuit_check() (10 ms at 1 kHz). */
 #define DIAG_SUPPLY_DECIM 10u
 
 /** Consecutive in-range samples of a track that give its low-circuit code one passed check (500 ms). */
@@ -142,7 +142,7 @@ typedef struct {
     uint8_t hist_i;        /**< next slot of phi_hist */
     uint8_t tps_named;     /**< 0: no track named; 1 or 2: the track the vote named (kept out) */
     uint8_t param_tick;    /**< calls of diag_param_check() since its last check, 0..DIAG_PARAM_DECIM - 1 */
-    uint8_t supply_tick;   /**< calls of diag_supply_check() since its last check, 0..DIAG_SUPPLY_DECIM - 1 */
+    uint8_t supply_tick;   /**< calls of diag_circuit_check() since its last check, 0..DIAG_SUPPLY_DECIM - 1 */
     uint16_t tps_clean[2]; /**< per track, consecutive in-range samples since the last pass or dropout */
     uint16_t tps_low_n[2]; /**< per track, low samples since the last clean window (freeze value) */
     tv_real_t arm_a;       /**< a_T of the armature over one period (diag_detect_set_armature()) */
@@ -226,19 +226,15 @@ int diag_probe_direction(const diag_detect_t *dd);
 void diag_probe_done(diag_detect_t *dd);
 
 /**
- * The supply check (see the file comment); reports P0562. Call once per step: it runs at every
- * DIAG_SUPPLY_DECIM-th call (the first at the DIAG_SUPPLY_DECIM-th).
- * @param supply_V  the measured supply [V] (value in the freeze frame)
- */
-void diag_supply_check(diag_detect_t *dd, diag_t *d, tv_real_t supply_V, const diag_snapshot_t *snap);
-
-/**
- * The track low-circuit check (see the file comment); reports P0122, P0222. Call once per step.
+ * The supply and track low-circuit checks (see the file comment); report P0562, P0122, P0222.
+ * Call once per step: the supply is checked at every DIAG_SUPPLY_DECIM-th call (the first at the
+ * DIAG_SUPPLY_DECIM-th), the tracks at every call.
  * @param low1, low2  1 when the track's sample is below its range
- * @param snap        the step's snapshot (value in the freeze frame: low samples counted since
+ * @param supply_V    the measured supply [V] (P0562's freeze value)
+ * @param snap        the step's snapshot (P0122 / P0222 freeze value: low samples counted since
  *                    the last clean window [-])
  */
-void diag_tps_low_check(diag_detect_t *dd, diag_t *d, int low1, int low2, const diag_snapshot_t *snap);
+void diag_circuit_check(diag_detect_t *dd, diag_t *d, int low1, int low2, tv_real_t supply_V, const diag_snapshot_t *snap);
 
 /**
  * The winding-resistance check (see the file comment); reports P2101, P1A01.
