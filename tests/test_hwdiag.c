@@ -147,11 +147,11 @@ static void test_bridge_rule(void)
         diag_open_check(&dd, &d, 1, TV_R(6.0), TV_R(0.0), 1, TV_R(2.0), TV_R(-0.4), &s);
     }
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A03) && !diag_pending(&d, DIAG_DTC_P2100));
-    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(1.0), TV_R(0.2)), TV_ERR_CONFIG);
-    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.0)), TV_ERR_CONFIG);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(1.0), TV_R(0.2), TV_R(680.0)), TV_ERR_CONFIG);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.0), TV_R(680.0)), TV_ERR_CONFIG);
     /* healthy: u = 6 V at rest, 1.2 A (v = (1.2 - 0.12) x 5 = 5.4 V): both pass, no pulse */
     fresh(&d, &dd);
-    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2), TV_R(680.0)), TV_OK);
     for (k = 0; k < 50; ++k) {
         diag_open_check(&dd, &d, 1, TV_R(6.0), TV_R(0.0), 1, TV_R(0.0), TV_R(1.2), &s);
     }
@@ -161,7 +161,7 @@ static void test_bridge_rule(void)
      * -e / R = -0.4 A, v = 2 + (-0.4 + 0.04) x 5 = 0.2 V < 0.25 x 6: P1A03 fails, P2100 passes;
      * confirmed at the 10th sample, freeze value v / u = 0.2 / 6 */
     fresh(&d, &dd);
-    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2), TV_R(680.0)), TV_OK);
     diag_open_check(&dd, &d, 1, TV_R(6.0), TV_R(0.0), 1, TV_R(2.0), TV_R(-0.4), &s); /* i0 = 0 here */
     for (k = 2; k <= 10; ++k) {
         TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P1A03));
@@ -175,7 +175,7 @@ static void test_bridge_rule(void)
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P2100) && !diag_confirmed(&d, DIAG_DTC_P2100));
     /* ... unless the back-EMF is the larger (|e| > |u|): not judged */
     fresh(&d, &dd);
-    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2), TV_R(680.0)), TV_OK);
     for (k = 0; k < 20; ++k) {
         diag_open_check(&dd, &d, 1, TV_R(6.0), TV_R(0.0), 1, TV_R(6.5), TV_R(-1.3), &s);
     }
@@ -185,7 +185,7 @@ static void test_bridge_rule(void)
      * passes P2100; later motionless samples fail P1A03: confirmed at its 10th failure, P2100
      * never confirmed */
     fresh(&d, &dd);
-    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2), TV_R(680.0)), TV_OK);
     diag_open_check(&dd, &d, 1, TV_R(6.0), TV_R(0.0), 1, TV_R(0.0), TV_R(0.0), &s);
     TV_CHECK(diag_pending(&d, DIAG_DTC_P2100));
     TV_CHECK_EQ_INT(diag_probe_direction(&dd), -1);
@@ -204,7 +204,7 @@ static void test_bridge_rule(void)
     /* open winding at rest: the pulses carry nothing either: P2100 at its 5th failure (each
      * sample asks for a pulse the other way), P1A03 never pending */
     fresh(&d, &dd);
-    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2), TV_R(680.0)), TV_OK);
     {
         tv_real_t u = TV_R(6.0);
         for (k = 1; k <= 5; ++k) {
@@ -219,7 +219,7 @@ static void test_bridge_rule(void)
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A03) && !diag_confirmed(&d, DIAG_DTC_P1A03));
     /* open winding while the plate moves (v = the floating back-EMF, 3 V): P2100, no pulse */
     fresh(&d, &dd);
-    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2), TV_R(680.0)), TV_OK);
     for (k = 0; k < 5; ++k) {
         diag_open_check(&dd, &d, 1, TV_R(6.0), TV_R(0.0), 1, TV_R(3.0), TV_R(0.0), &s);
         TV_CHECK_EQ_INT(diag_probe_direction(&dd), 0);

@@ -157,17 +157,32 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
     (void)diag_report(d, code, TV_FABS(phi_est_rad - oldest) < dd->cfg.jam_still_rad ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(e));
 }
 
-int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T)
+int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T, tv_real_t emf_V_rad)
 {
     if (dd == NULL) {
         return TV_ERR_NULL;
     }
-    if (!TV_IS_FINITE(a_T) || !TV_IS_FINITE(b_T) || a_T < TV_R(0.0) || !(a_T < TV_R(1.0)) || !(b_T > TV_R(0.0))) {
+    if (!TV_IS_FINITE(a_T) || !TV_IS_FINITE(b_T) || !TV_IS_FINITE(emf_V_rad) || a_T < TV_R(0.0) || !(a_T < TV_R(1.0)) ||
+        !(b_T > TV_R(0.0)) || !(emf_V_rad > TV_R(0.0))) {
         return TV_ERR_CONFIG;
     }
     dd->arm_a = a_T;
     dd->arm_inv_b = TV_R(1.0) / b_T;
+    dd->emf_V_rad = emf_V_rad;
     return TV_OK;
+}
+
+int diag_measured_emf(diag_detect_t *dd, int sel, tv_real_t phi_rad, int one_period, tv_real_t *emf_V)
+{
+    int ok;
+    if (dd == NULL || emf_V == NULL) {
+        return 0;
+    }
+    ok = sel != 0 && (uint8_t)sel == dd->phi_prev_sel && one_period && TV_IS_FINITE(phi_rad);
+    *emf_V = ok ? dd->emf_V_rad * (phi_rad - dd->phi_prev_rad) : TV_R(0.0);
+    dd->phi_prev_rad = phi_rad;
+    dd->phi_prev_sel = (uint8_t)sel;
+    return ok;
 }
 
 void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, int meas_ok,

@@ -46,9 +46,9 @@
  *     class nominal, plant_draw.h) with the estimation error measured on it (README).
  *   BRIDGE DIRECTION LOST (P1A03), in the open-winding check's samples (same gate): the terminal
  *     voltage the measured current implies, v = e + (i1 - a_T i0) / b_T (e = n Ke times the
- *     measured angle's change over the period / Ts: the estimate's velocity can be far off against
- *     a stop that the model places a little elsewhere, measured) (the model's exact
- *     armature solution over one period inverted: i0 the current measured at the period's start,
+ *     measured angle's change over the period / Ts, diag_measured_emf(): the estimate's velocity
+ *     can be far off against a stop that the model places a little elsewhere, measured; the
+ *     model's exact armature solution over one period inverted: i0 the current measured at the period's start,
  *     i1 at its end, a_T = a^N, b_T = b (1 + a + ... + a^(N-1)) with the model's nominal R and L;
  *     diag_detect_set_armature()), against the commanded u. A lost direction applies 0 V (both low
  *     sides on): the winding is shorted and a moving plate's back-EMF drives i = -n Ke w / R, so
@@ -148,6 +148,9 @@ typedef struct {
     tv_real_t arm_a;       /**< a_T of the armature over one period (diag_detect_set_armature()) */
     tv_real_t arm_inv_b;   /**< 1 / b_T [ohm]; 0: not set, no bridge check */
     tv_real_t i_prev_A;    /**< the current measured at the last call of diag_open_check() (0 when not active) */
+    tv_real_t emf_V_rad;   /**< n Ke / Ts [V/rad] (diag_detect_set_armature()) */
+    tv_real_t phi_prev_rad; /**< the measured angle at the last call of diag_measured_emf() [rad] */
+    uint8_t phi_prev_sel;  /**< its track selection (0: none) */
     int8_t dead_dir;       /**< the drive direction suspected lost (+1, -1; 0: none) */
     uint8_t probe_req;     /**< 1: a reverse pulse against dead_dir is asked for (diag_probe_direction()) */
 } diag_detect_t;
@@ -211,10 +214,24 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
                      tv_real_t emf_meas_V, tv_real_t current_A, const diag_snapshot_t *snap);
 
 /**
- * The armature's exact solution over one period, for the bridge check: i1 = a_T i0 + b_T (u - e).
- * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (a_T not in [0, 1), b_T not > 0).
+ * The armature's exact solution over one period, for the bridge check: i1 = a_T i0 + b_T (u - e),
+ * and the back-EMF per angle change over one period, n Ke / Ts [V/rad] (diag_measured_emf()).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (a_T not in [0, 1), b_T or emf_V_rad not > 0).
  */
-int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T);
+int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T, tv_real_t emf_V_rad);
+
+/**
+ * The back-EMF of the measured motion over the period that ended, for diag_open_check(): n Ke / Ts
+ * times the change of the measured angle since the last call, valid when the angle comes from the
+ * same track selection as then (a faulty track's offset, or a track left out, would otherwise
+ * look like motion) and one period passed. Call once per step (it keeps the angle).
+ * @param sel         0: no angle this sample; 1: track 1 alone; 2: track 2 alone; 3: their mean
+ * @param phi_rad     that angle [rad]
+ * @param one_period  1 when exactly one period passed since the last call
+ * @param emf_V       receives the back-EMF [V] (0 when not valid)
+ * @return 1 when valid, else 0
+ */
+int diag_measured_emf(diag_detect_t *dd, int sel, tv_real_t phi_rad, int one_period, tv_real_t *emf_V);
 
 /**
  * The reverse pulse the bridge check asks for (see the file comment).
