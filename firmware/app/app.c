@@ -182,7 +182,7 @@ int app_init(app_t *app, const app_config_t *cfg)
         tv_real_t b_T;
         armature_period(&app->ekf.model, &a_T, &b_T);
         /* refused (not set: no bridge check) only for a degenerate model */
-        (void)diag_detect_set_armature(&app->ddet, a_T, b_T, app->ekf.model.nKe_V_s / cfg->model.Ts_s);
+        (void)diag_detect_set_armature(&app->ddet, a_T, b_T);
     }
     if (cfg->control.mode == APP_MODE_STOP_LEARN) {
         (void)sl_start(&app->sl, &cfg->stop_learn, &cfg->model); /* validated above */
@@ -546,31 +546,33 @@ static void app_diag_snapshot(const app_t *app, const app_input_t *in, const app
     s->duty = out->supply_V > TV_R(0.0) ? app->u_applied_V / out->supply_V : TV_R(0.0);
 }
 
-/* Before the estimator: the track vote against the estimate moved on by one period (the
- * estimator has not seen this sample), the tracks' low-circuit counters and the supply check on
- * the raw samples, and the open-winding and bridge check on the period that ended. */
-static diag_tps_use_t app_diag_pre(app_t *app, const app_input_t *in, tv_real_t phi1, tv_real_t phi2, tv_real_t current,
-                                   int one_period, const diag_snapshot_t *snap)
+/* Before the estimator: the tracks' low-circuit counters and the supply check on the raw
+ * samples, and the track vote against the estimate moved on by one period (the estimator has not
+ * seen this sample). */
+static diag_tps_use_t app_diag_pre(app_t *app, const app_input_t *in, tv_real_t phi1, tv_real_t phi2, const diag_snapshot_t *snap)
 {
     const app_limits_t *lim = &app->cfg.limits;
     const int in_range = in->adc[1] >= lim->tps_min_counts && in->adc[1] <= lim->tps_max_counts &&
                          in->adc[2] >= lim->tps_min_counts && in->adc[2] <= lim->tps_max_counts &&
                          (app->faults & (APP_FAULT_TPS1_RANGE | APP_FAULT_TPS2_RANGE)) == 0u &&
                          !app->diag.code[DIAG_DTC_P0122].confirmed && !app->diag.code[DIAG_DTC_P0222].confirmed;
-    const int cur_ok = in->adc[0] >= lim->current_min_counts && in->adc[0] <= lim->current_max_counts;
-    const diag_tps_use_t use = diag_tps_vote(&app->ddet, &app->diag, in_range && app->n_steps > 0u, phi1, phi2,
-                                             snap->x[TVM_PHI] + snap->x[TVM_W] * app->cfg.model.Ts_s, snap);
-    /* the back-EMF of the measured motion over the period that ended (the bridge check's): the
-     * tracks the vote keeps, the same ones as one period ago (a faulty track's offset cancels) */
-    const int sel = use == DIAG_TPS_ONLY1 ? 1 : (use == DIAG_TPS_ONLY2 ? 2 : (use == DIAG_TPS_BOTH && in_range ? 3 : 0));
-    tv_real_t emf_meas;
-    const int meas_ok = diag_measured_emf(&app->ddet, sel, sel == 1 ? phi1 : (sel == 2 ? phi2 : (phi1 + phi2) * TV_R(0.5)),
-                                          one_period, &emf_meas);
     diag_circuit_check(&app->ddet, &app->diag, in->adc[1] < lim->tps_min_counts, in->adc[2] < lim->tps_min_counts,
                        snap->supply_V, snap);
+    return diag_tps_vote(&app->ddet, &app->diag, in_range && app->n_steps > 0u, phi1, phi2,
+                         snap->x[TVM_PHI] + snap->x[TVM_W] * app->cfg.model.Ts_s, snap);
+}
+
+/* Before the estimator, once the angle of this sample is chosen: the open-winding and bridge
+ * check on the period that ended, with the back-EMF of the measured motion (the differentiated
+ * angle the estimator gets: the same tracks as the last angle, so a named track's offset does
+ * not look like motion; valid when there is an angle now and one before). */
+static void app_diag_motor(app_t *app, const app_input_t *in, tv_real_t current, int motion_ok, tv_real_t w_meas,
+                           const diag_snapshot_t *snap)
+{
+    const app_limits_t *lim = &app->cfg.limits;
+    const int cur_ok = in->adc[0] >= lim->current_min_counts && in->adc[0] <= lim->current_max_counts;
     diag_open_check(&app->ddet, &app->diag, app->n_steps > 0u && app->diag_bridge_on && cur_ok, app->u_applied_V,
-                    app->ekf.model.nKe_V_s * snap->x[TVM_W], meas_ok, emf_meas, current, snap);
-    return use;
+                    app->ekf.model.nKe_V_s * snap->x[TVM_W], motion_ok, app->ekf.model.nKe_V_s * w_meas, current, snap);
 }
 
 /* After the control law: the action of the confirmed codes on the outputs, then the jam check
@@ -717,7 +719,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     /* ---- Diagnostics before the estimator (firmware/diag/diag_detect.h) ---- */
     app_diag_snapshot(app, in, out, &dsnap);
     {
-        switch (app_diag_pre(app, in, phi1, phi2, current, periods == 1u, &dsnap)) {
+        switch (app_diag_pre(app, in, phi1, phi2, &dsnap)) {
         case DIAG_TPS_ONLY1: /* track 2 named: track 1 alone */
             angle = phi1;
             use_mask |= EKF_CH_BIT(EKF_CH_ANGLE) | EKF_CH_BIT(EKF_CH_VELOCITY);
@@ -752,6 +754,8 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     if (app->have_last_angle && in->t_us > app->last_angle_t_us) {
         meas.z[EKF_CH_VELOCITY] = (angle - app->last_angle_rad) / ((tv_real_t)(in->t_us - app->last_angle_t_us) * TV_R(1e-6));
     }
+    app_diag_motor(app, in, current, angle_ok && app->have_last_angle && in->t_us > app->last_angle_t_us,
+                   meas.z[EKF_CH_VELOCITY], &dsnap); /* diagnostics: open winding, bridge */
     out->ekf_status = TV_OK;
     for (k = 0u; k < periods; ++k) {
         /* After a missed sample the outputs were forced off: the first period ran with the

@@ -20,9 +20,9 @@
  * confirm and to heal. P1A03 10 ms (failing checks need a current under a lost direction, a
  * discriminating sample; 1 s to heal). P0562 is checked every DIAG_SUPPLY_DECIM steps (10 ms):
  * 50 checks = 500 ms below the threshold confirm, 100 checks (1 s) above it heal. P0122 / P0222
- * count low samples (a failed check each) and pass once per DIAG_TPS_CLEAN_WINDOW clean samples
- * (500 ms): 5 dropouts without 500 ms of clean signal between them confirm (a steady 0 V in
- * 5 ms, as the range check's latch), 2 clean windows (1 s) heal. */
+ * count low samples (a failed check each) and pass once per fixed DIAG_TPS_CLEAN_WINDOW (500 ms)
+ * without one: 5 dropouts confirm unless clean windows come between them (a steady 0 V in 5 ms,
+ * as the range check's latch), 2 clean windows (1-1.5 s) heal. */
 static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
     {"P0121", "tps1_fault", "throttle position sensor 1 range/performance (track 1 named by the estimator's vote)", 20u, 1000u,
      DIAG_ACTION_LIMITED},

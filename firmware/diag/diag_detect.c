@@ -157,32 +157,17 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
     (void)diag_report(d, code, TV_FABS(phi_est_rad - oldest) < dd->cfg.jam_still_rad ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(e));
 }
 
-int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T, tv_real_t emf_V_rad)
+int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T)
 {
     if (dd == NULL) {
         return TV_ERR_NULL;
     }
-    if (!TV_IS_FINITE(a_T) || !TV_IS_FINITE(b_T) || !TV_IS_FINITE(emf_V_rad) || a_T < TV_R(0.0) || !(a_T < TV_R(1.0)) ||
-        !(b_T > TV_R(0.0)) || !(emf_V_rad > TV_R(0.0))) {
+    if (!TV_IS_FINITE(a_T) || !TV_IS_FINITE(b_T) || a_T < TV_R(0.0) || !(a_T < TV_R(1.0)) || !(b_T > TV_R(0.0))) {
         return TV_ERR_CONFIG;
     }
     dd->arm_a = a_T;
     dd->arm_inv_b = TV_R(1.0) / b_T;
-    dd->emf_V_rad = emf_V_rad;
     return TV_OK;
-}
-
-int diag_measured_emf(diag_detect_t *dd, int sel, tv_real_t phi_rad, int one_period, tv_real_t *emf_V)
-{
-    int ok;
-    if (dd == NULL || emf_V == NULL) {
-        return 0;
-    }
-    ok = sel != 0 && (uint8_t)sel == dd->phi_prev_sel && one_period && TV_IS_FINITE(phi_rad);
-    *emf_V = ok ? dd->emf_V_rad * (phi_rad - dd->phi_prev_rad) : TV_R(0.0);
-    dd->phi_prev_rad = phi_rad;
-    dd->phi_prev_sel = (uint8_t)sel;
-    return ok;
 }
 
 void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, int meas_ok,
@@ -272,43 +257,40 @@ void diag_circuit_check(diag_detect_t *dd, diag_t *d, int low1, int low2, tv_rea
     if (dd == NULL || d == NULL || snap == NULL) {
         return;
     }
-    /* supply, every DIAG_SUPPLY_DECIM calls */
-    if (++dd->supply_tick >= DIAG_SUPPLY_DECIM) {
-        dd->supply_tick = 0u;
-        if (supply_V < dd->cfg.supply_low_V) {
-            (void)diag_report(d, DIAG_DTC_P0562, DIAG_FAIL, snap, supply_V);
-        } else if (supply_V >= dd->cfg.supply_low_V + dd->cfg.supply_hyst_V) {
-            (void)diag_report(d, DIAG_DTC_P0562, DIAG_PASS, snap, supply_V);
-        } else {
-            /* inside the hysteresis (or not finite): not run */
-        }
-    }
-    /* tracks; the common case: both in range and no clean window complete */
-    if (!low1 && !low2) {
-        const uint16_t c0 = ++dd->tps_clean[0];
-        const uint16_t c1 = ++dd->tps_clean[1];
-        if (c0 < DIAG_TPS_CLEAN_WINDOW && c1 < DIAG_TPS_CLEAN_WINDOW) {
-            return;
-        }
-    }
-    for (k = 0; k < 2; ++k) {
-        const diag_dtc_t code = k == 0 ? DIAG_DTC_P0122 : DIAG_DTC_P0222;
-        if (k == 0 ? low1 : low2) {
-            dd->tps_clean[k] = 0u;
-            if (dd->tps_low_n[k] < 0xFFFFu) {
-                ++dd->tps_low_n[k];
+    if (low1 || low2) {
+        /* a track below its range: one failed check each, and its window is not clean */
+        for (k = 0; k < 2; ++k) {
+            if (k == 0 ? low1 : low2) {
+                dd->tps_dirty[k] = 1u;
+                if (dd->tps_low_n[k] < 0xFFFFu) {
+                    ++dd->tps_low_n[k];
+                }
+                (void)diag_report(d, k == 0 ? DIAG_DTC_P0122 : DIAG_DTC_P0222, DIAG_FAIL, snap, (tv_real_t)dd->tps_low_n[k]);
             }
-            (void)diag_report(d, code, DIAG_FAIL, snap, (tv_real_t)dd->tps_low_n[k]);
-            continue;
         }
-        if (low1 || low2) {
-            ++dd->tps_clean[k]; /* not counted above */
-        }
-        if (dd->tps_clean[k] >= DIAG_TPS_CLEAN_WINDOW) {
-            dd->tps_clean[k] = 0u;
+    }
+    if (++dd->supply_tick < DIAG_SUPPLY_DECIM) {
+        return;
+    }
+    dd->supply_tick = 0u;
+    if (supply_V < dd->cfg.supply_low_V) {
+        (void)diag_report(d, DIAG_DTC_P0562, DIAG_FAIL, snap, supply_V);
+    } else if (supply_V >= dd->cfg.supply_low_V + dd->cfg.supply_hyst_V) {
+        (void)diag_report(d, DIAG_DTC_P0562, DIAG_PASS, snap, supply_V);
+    } else {
+        /* inside the hysteresis (or not finite): not run */
+    }
+    if (++dd->tps_win_tick < DIAG_TPS_CLEAN_WINDOW / DIAG_SUPPLY_DECIM) {
+        return;
+    }
+    /* the end of a window: a clean one passes once */
+    dd->tps_win_tick = 0u;
+    for (k = 0; k < 2; ++k) {
+        if (!dd->tps_dirty[k]) {
             dd->tps_low_n[k] = 0u;
-            (void)diag_report(d, code, DIAG_PASS, snap, TV_R(0.0));
+            (void)diag_report(d, k == 0 ? DIAG_DTC_P0122 : DIAG_DTC_P0222, DIAG_PASS, snap, TV_R(0.0));
         }
+        dd->tps_dirty[k] = 0u;
     }
 }
 

@@ -46,9 +46,9 @@
  *     class nominal, plant_draw.h) with the estimation error measured on it (README).
  *   BRIDGE DIRECTION LOST (P1A03), in the open-winding check's samples (same gate): the terminal
  *     voltage the measured current implies, v = e + (i1 - a_T i0) / b_T (e = n Ke times the
- *     measured angle's change over the period / Ts, diag_measured_emf(): the estimate's velocity
- *     can be far off against a stop that the model places a little elsewhere, measured; the
- *     model's exact armature solution over one period inverted: i0 the current measured at the period's start,
+ *     differentiated measured angle, the one the estimator gets: the estimate's velocity can be
+ *     far off against a stop that the model places a little elsewhere, measured; the model's
+ *     exact armature solution over one period inverted: i0 the current measured at the period's start,
  *     i1 at its end, a_T = a^N, b_T = b (1 + a + ... + a^(N-1)) with the model's nominal R and L;
  *     diag_detect_set_armature()), against the commanded u. A lost direction applies 0 V (both low
  *     sides on): the winding is shorted and a moving plate's back-EMF drives i = -n Ke w / R, so
@@ -69,10 +69,10 @@
  *     fails, at or above supply_low_V + supply_hyst_V passes, in between nothing.
  *   TRACK CIRCUIT LOW (P0122 track 1, P0222 track 2), an event counter: every sample whose
  *     track reads below its range (the caller's tps_min_counts: a 0 V reading, a lost wiper) is a
- *     failed check; every DIAG_TPS_CLEAN_WINDOW consecutive samples in range give one passed
- *     check. A steady low track confirms at the code's count (ms); sporadic dropouts add up as
- *     long as they come closer than the window (the 1 kHz leaky counter alone would leak a 10 %
- *     dropout rate away).
+ *     failed check; every fixed window of DIAG_TPS_CLEAN_WINDOW samples without one gives one
+ *     passed check. A steady low track confirms at the code's count (ms); sporadic dropouts add
+ *     up as long as most windows hold one (the 1 kHz leaky counter alone would leak a 10 %
+ *     dropout rate away: 9 passes per failure).
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -97,7 +97,8 @@ extern "C" {
 /** The supply check runs every this many calls of diag_circuit_check() (10 ms at 1 kHz). */
 #define DIAG_SUPPLY_DECIM 10u
 
-/** Consecutive in-range samples of a track that give its low-circuit code one passed check (500 ms). */
+/** The track low-circuit check's window (500 ms, a multiple of DIAG_SUPPLY_DECIM): a window without
+ *  a low sample gives the track's code one passed check. */
 #define DIAG_TPS_CLEAN_WINDOW 500u
 
 /** Detector thresholds (diag_detect_config_default()). */
@@ -143,14 +144,12 @@ typedef struct {
     uint8_t tps_named;     /**< 0: no track named; 1 or 2: the track the vote named (kept out) */
     uint8_t param_tick;    /**< calls of diag_param_check() since its last check, 0..DIAG_PARAM_DECIM - 1 */
     uint8_t supply_tick;   /**< calls of diag_circuit_check() since its last check, 0..DIAG_SUPPLY_DECIM - 1 */
-    uint16_t tps_clean[2]; /**< per track, consecutive in-range samples since the last pass or dropout */
+    uint8_t tps_win_tick;  /**< supply checks since the track window began, 0..DIAG_TPS_CLEAN_WINDOW / DIAG_SUPPLY_DECIM - 1 */
+    uint8_t tps_dirty[2];  /**< per track, 1: a low sample in the current window */
     uint16_t tps_low_n[2]; /**< per track, low samples since the last clean window (freeze value) */
     tv_real_t arm_a;       /**< a_T of the armature over one period (diag_detect_set_armature()) */
     tv_real_t arm_inv_b;   /**< 1 / b_T [ohm]; 0: not set, no bridge check */
     tv_real_t i_prev_A;    /**< the current measured at the last call of diag_open_check() (0 when not active) */
-    tv_real_t emf_V_rad;   /**< n Ke / Ts [V/rad] (diag_detect_set_armature()) */
-    tv_real_t phi_prev_rad; /**< the measured angle at the last call of diag_measured_emf() [rad] */
-    uint8_t phi_prev_sel;  /**< its track selection (0: none) */
     int8_t dead_dir;       /**< the drive direction suspected lost (+1, -1; 0: none) */
     uint8_t probe_req;     /**< 1: a reverse pulse against dead_dir is asked for (diag_probe_direction()) */
 } diag_detect_t;
@@ -204,8 +203,8 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
  * @param active     1 when the bridge drove the period that just ended and the current sample is plausible
  * @param u_V        the voltage applied over that period [V]
  * @param emf_V      the back-EMF n Ke w at its start [V] (the estimate's w: P2100's gate)
- * @param meas_ok    1 when emf_meas_V is known (both tracks now and one period ago); 0: P1A03 not judged
- * @param emf_meas_V the back-EMF of the measured motion over the period, n Ke (phi1 - phi0) / Ts [V]
+ * @param meas_ok    1 when emf_meas_V is known (an angle now and one before); 0: P1A03 not judged
+ * @param emf_meas_V the back-EMF of the measured motion, n Ke times the differentiated angle [V]
  * @param current_A  the measured current [A]
  * @param snap       the step's snapshot (value in the freeze frame: P2100 |current| [A]; P1A03 the
  *                   implied terminal voltage over the commanded one, v / u [-])
@@ -214,24 +213,10 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
                      tv_real_t emf_meas_V, tv_real_t current_A, const diag_snapshot_t *snap);
 
 /**
- * The armature's exact solution over one period, for the bridge check: i1 = a_T i0 + b_T (u - e),
- * and the back-EMF per angle change over one period, n Ke / Ts [V/rad] (diag_measured_emf()).
- * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (a_T not in [0, 1), b_T or emf_V_rad not > 0).
+ * The armature's exact solution over one period, for the bridge check: i1 = a_T i0 + b_T (u - e).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (a_T not in [0, 1), b_T not > 0).
  */
-int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T, tv_real_t emf_V_rad);
-
-/**
- * The back-EMF of the measured motion over the period that ended, for diag_open_check(): n Ke / Ts
- * times the change of the measured angle since the last call, valid when the angle comes from the
- * same track selection as then (a faulty track's offset, or a track left out, would otherwise
- * look like motion) and one period passed. Call once per step (it keeps the angle).
- * @param sel         0: no angle this sample; 1: track 1 alone; 2: track 2 alone; 3: their mean
- * @param phi_rad     that angle [rad]
- * @param one_period  1 when exactly one period passed since the last call
- * @param emf_V       receives the back-EMF [V] (0 when not valid)
- * @return 1 when valid, else 0
- */
-int diag_measured_emf(diag_detect_t *dd, int sel, tv_real_t phi_rad, int one_period, tv_real_t *emf_V);
+int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T);
 
 /**
  * The reverse pulse the bridge check asks for (see the file comment).
