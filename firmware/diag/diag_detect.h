@@ -48,14 +48,15 @@
  *     voltage the measured current implies, v = e + (i1 - a_T i0) / b_T (e = n Ke times the
  *     differentiated measured angle, the one the estimator gets: the estimate's velocity can be
  *     far off against a stop that the model places a little elsewhere, measured; the model's
- *     exact armature solution over one period inverted: i0 the current measured at the period's start,
- *     i1 at its end, a_T = a^N, b_T = b (1 + a + ... + a^(N-1)) with the model's nominal R and L;
- *     diag_detect_set_armature()), against the commanded u. A lost direction applies 0 V (both low
+ *     exact armature solution over one period inverted: i0 the current measured at the
+ *     period's start, i1 at its end, a_T = a^N, b_T = b (1 + a + ... + a^(N-1)) with the
+ *     model's nominal R and L, diag_detect_set_armature()), against the commanded u. A lost direction applies 0 V (both low
  *     sides on): the winding is shorted and a moving plate's back-EMF drives i = -n Ke w / R, so
  *     v is about 0 while a current flows; an open winding carries no current at all (v = the
  *     floating back-EMF); a healthy bridge gives v about u. With |current| >= open_i_max_A and
  *     |e| <= |u|: |v| < bridge_lost_frac |u| fails P1A03 (and passes P2100: the winding
- *     conducts), else passes P1A03 (this direction works). No current while the plate moves
+ *     conducts), else passes a pending or confirmed P1A03 (this direction works; an idle code is
+ *     not reported: a pass would change nothing). No current while the plate moves
  *     (|v| >= bridge_lost_frac |u|: the floating back-EMF): P2100 fails (open). No current and no
  *     motion (|v| < bridge_lost_frac |u|): both faults look alike (nothing flows, nothing moves;
  *     the terminal voltage is not measured): P2100 fails as before (its 10 ms target), the
@@ -65,8 +66,9 @@
  *     fails, and later motionless no-current samples fail P1A03 instead of P2100 (as long as
  *     P1A03 is pending or confirmed); a sample in the other, working direction neither passes nor
  *     fails P1A03. An open winding never conducts: its pulses fail P2100 too.
- *   SUPPLY LOW (P0562): every DIAG_SUPPLY_DECIM calls (diag_circuit_check()), the measured supply below supply_low_V
- *     fails, at or above supply_low_V + supply_hyst_V passes, in between nothing.
+ *   SUPPLY LOW (P0562): every DIAG_SUPPLY_DECIM calls of diag_circuit_check(), the measured
+ *     supply below supply_low_V fails, at or above supply_low_V + supply_hyst_V passes, in
+ *     between nothing.
  *   TRACK CIRCUIT LOW (P0122 track 1, P0222 track 2), an event counter: every sample whose
  *     track reads below its range (the caller's tps_min_counts: a 0 V reading, a lost wiper) is a
  *     failed check; every fixed window of DIAG_TPS_CLEAN_WINDOW samples without one gives one
