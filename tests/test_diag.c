@@ -285,16 +285,16 @@ static void test_jam_and_open_winding_rules(void)
      * drive, or 2.9 V applied however large u - emf is, or the bridge off, do not run */
     diag_init(&d);
     for (k = 0; k < 4u; ++k) {
-        diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.0), TV_R(0.149), &sn);
+        diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.0), 0, TV_R(0.0), TV_R(0.149), &sn);
     }
-    diag_open_check(&dd, &d, 1, TV_R(12.0), TV_R(9.1), TV_R(0.0), &sn);
-    diag_open_check(&dd, &d, 1, TV_R(2.9), TV_R(-40.0), TV_R(0.0), &sn);
-    diag_open_check(&dd, &d, 0, TV_R(12.0), TV_R(0.0), TV_R(0.0), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(12.0), TV_R(9.1), 0, TV_R(0.0), TV_R(0.0), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(2.9), TV_R(-40.0), 0, TV_R(0.0), TV_R(0.0), &sn);
+    diag_open_check(&dd, &d, 0, TV_R(12.0), TV_R(0.0), 0, TV_R(0.0), TV_R(0.0), &sn);
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2100), 0);
-    diag_open_check(&dd, &d, 1, TV_R(-3.0), TV_R(0.0), TV_R(0.0), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(-3.0), TV_R(0.0), 0, TV_R(0.0), TV_R(0.0), &sn);
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2100), 1);
     diag_init(&d);
-    diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.0), TV_R(0.15), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.0), 0, TV_R(0.0), TV_R(0.15), &sn);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2100), 0);
 }
 

@@ -104,6 +104,8 @@ static int check_control(const app_control_t *c)
     return TV_OK;
 }
 
+static void armature_period(const tvm_t *m, tv_real_t *a_T, tv_real_t *b_T);
+
 int app_init(app_t *app, const app_config_t *cfg)
 {
     ekf_t ekf;
@@ -174,6 +176,14 @@ int app_init(app_t *app, const app_config_t *cfg)
     (void)st_reset(&app->st, &cfg->stop_track, cfg->model.phi_closed_rad, cfg->model.phi_open_rad); /* likewise */
     diag_init(&app->diag);
     (void)diag_detect_init(&app->ddet, &cfg->diag); /* validated above */
+    {
+        /* the bridge check's armature (the model's R and L do not change in service) */
+        tv_real_t a_T;
+        tv_real_t b_T;
+        armature_period(&app->ekf.model, &a_T, &b_T);
+        /* refused (not set: no bridge check) only for a degenerate model */
+        (void)diag_detect_set_armature(&app->ddet, a_T, b_T);
+    }
     if (cfg->control.mode == APP_MODE_STOP_LEARN) {
         (void)sl_start(&app->sl, &cfg->stop_learn, &cfg->model); /* validated above */
     }
@@ -278,18 +288,26 @@ int app_set_target(app_t *app, tv_real_t target_rad)
  * u = n Ke w alone the current decayed with L/R = 0.47 ms and 12 % of it was still predicted
  * after a period.
  */
+/* The model's armature over one period: i1 = a_T i0 + b_T (u - n Ke w). */
+static void armature_period(const tvm_t *m, tv_real_t *a_T, tv_real_t *b_T)
+{
+    tv_real_t a = TV_R(1.0);
+    int k;
+    for (k = 0; k < m->p.substeps; ++k) { /* a_T = a^N: N <= TVM_SUBSTEPS_MAX, bounded */
+        a *= m->a;
+    }
+    *a_T = a;
+    /* b_T = b (1 + a + ... + a^(N-1)) */
+    *b_T = m->a < TV_R(1.0) ? m->b_A_V * (TV_R(1.0) - a) / (TV_R(1.0) - m->a) : m->b_A_V * (tv_real_t)m->p.substeps;
+}
+
 static tv_real_t open_bridge_voltage(const app_t *app)
 {
     const tvm_t *m = &app->ekf.model;
-    tv_real_t a_T = TV_R(1.0);
+    tv_real_t a_T;
     tv_real_t b_T;
-    int k;
-    for (k = 0; k < m->p.substeps; ++k) { /* a_T = a^N: N <= TVM_SUBSTEPS_MAX, bounded */
-        a_T *= m->a;
-    }
-    /* b_T = b (1 + a + ... + a^(N-1)) */
-    b_T = m->a < TV_R(1.0) ? m->b_A_V * (TV_R(1.0) - a_T) / (TV_R(1.0) - m->a) : m->b_A_V * (tv_real_t)m->p.substeps;
     tv_real_t x[TVM_NX];
+    armature_period(m, &a_T, &b_T);
     ekf_state(&app->ekf, x);
     return m->nKe_V_s * x[TVM_W] - a_T / b_T * x[TVM_I];
 }
@@ -530,20 +548,33 @@ static void app_diag_snapshot(const app_t *app, const app_input_t *in, const app
     s->duty = out->supply_V > TV_R(0.0) ? app->u_applied_V / out->supply_V : TV_R(0.0);
 }
 
-/* Before the estimator: the track vote against the estimate moved on by one period (the
- * estimator has not seen this sample), and the open-winding check on the period that ended. */
-static diag_tps_use_t app_diag_pre(app_t *app, const app_input_t *in, tv_real_t phi1, tv_real_t phi2, tv_real_t current,
-                                   const diag_snapshot_t *snap)
+/* Before the estimator: the tracks' low-circuit counters and the supply check on the raw
+ * samples, and the track vote against the estimate moved on by one period (the estimator has not
+ * seen this sample). */
+static diag_tps_use_t app_diag_pre(app_t *app, const app_input_t *in, tv_real_t phi1, tv_real_t phi2, const diag_snapshot_t *snap)
 {
     const app_limits_t *lim = &app->cfg.limits;
     const int in_range = in->adc[1] >= lim->tps_min_counts && in->adc[1] <= lim->tps_max_counts &&
                          in->adc[2] >= lim->tps_min_counts && in->adc[2] <= lim->tps_max_counts &&
-                         (app->faults & (APP_FAULT_TPS1_RANGE | APP_FAULT_TPS2_RANGE)) == 0u;
-    const int cur_ok = in->adc[0] >= lim->current_min_counts && in->adc[0] <= lim->current_max_counts;
-    diag_open_check(&app->ddet, &app->diag, app->n_steps > 0u && app->diag_bridge_on && cur_ok, app->u_applied_V,
-                    app->ekf.model.nKe_V_s * snap->x[TVM_W], current, snap);
+                         (app->faults & (APP_FAULT_TPS1_RANGE | APP_FAULT_TPS2_RANGE)) == 0u &&
+                         !app->diag.code[DIAG_DTC_P0122].confirmed && !app->diag.code[DIAG_DTC_P0222].confirmed;
+    diag_circuit_check(&app->ddet, &app->diag, in->adc[1] < lim->tps_min_counts, in->adc[2] < lim->tps_min_counts,
+                       snap->supply_V, snap);
     return diag_tps_vote(&app->ddet, &app->diag, in_range && app->n_steps > 0u, phi1, phi2,
                          snap->x[TVM_PHI] + snap->x[TVM_W] * app->cfg.model.Ts_s, snap);
+}
+
+/* Before the estimator, once the angle of this sample is chosen: the open-winding and bridge
+ * check on the period that ended, with the back-EMF of the measured motion (the differentiated
+ * angle the estimator gets: the same tracks as the last angle, so a named track's offset does
+ * not look like motion; valid when there is an angle now and one before). */
+static void app_diag_motor(app_t *app, const app_input_t *in, tv_real_t current, int motion_ok, tv_real_t w_meas,
+                           const diag_snapshot_t *snap)
+{
+    const app_limits_t *lim = &app->cfg.limits;
+    const int cur_ok = in->adc[0] >= lim->current_min_counts && in->adc[0] <= lim->current_max_counts;
+    diag_open_check(&app->ddet, &app->diag, app->n_steps > 0u && app->diag_bridge_on && cur_ok, app->u_applied_V,
+                    app->ekf.model.nKe_V_s * snap->x[TVM_W], motion_ok, app->ekf.model.nKe_V_s * w_meas, current, snap);
 }
 
 /* After the control law: the action of the confirmed codes on the outputs, then the jam check
@@ -571,6 +602,16 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
             const float lim = (float)DIAG_LIMITED_DUTY;
             out->duty = out->duty > lim ? lim : (out->duty < -lim ? -lim : out->duty);
             app->u_applied_V = (tv_real_t)out->duty * out->supply_V;
+        }
+        if (out->bridge_enable && action != DIAG_ACTION_SAFE) {
+            /* the bridge check's reverse pulse: one period the other way at the limited duty
+             * (no current and no motion under drive: an open winding or a lost direction) */
+            const int dir = app->ddet.probe_req ? diag_probe_direction(&app->ddet) : 0;
+            if (dir != 0) {
+                out->duty = dir > 0 ? (float)DIAG_LIMITED_DUTY : -(float)DIAG_LIMITED_DUTY;
+                app->u_applied_V = (tv_real_t)out->duty * out->supply_V;
+                diag_probe_done(&app->ddet);
+            }
         }
         app->diag_bridge_on = out->bridge_enable;
     }
@@ -659,8 +700,9 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         const int f_cur = in->adc[0] < lim->current_min_counts || in->adc[0] > lim->current_max_counts;
         const int f_t1 = in->adc[1] < lim->tps_min_counts || in->adc[1] > lim->tps_max_counts;
         const int f_t2 = in->adc[2] < lim->tps_min_counts || in->adc[2] > lim->tps_max_counts;
-        const int t1_lost = f_t1 || (app->faults & APP_FAULT_TPS1_RANGE) != 0u;
-        const int t2_lost = f_t2 || (app->faults & APP_FAULT_TPS2_RANGE) != 0u;
+        /* a track whose low-circuit code is confirmed (intermittent dropouts) stays out */
+        const int t1_lost = f_t1 || (app->faults & APP_FAULT_TPS1_RANGE) != 0u || app->diag.code[DIAG_DTC_P0122].confirmed;
+        const int t2_lost = f_t2 || (app->faults & APP_FAULT_TPS2_RANGE) != 0u || app->diag.code[DIAG_DTC_P0222].confirmed;
         /* the tracks can only disagree when both are there */
         const int f_dis = !t1_lost && !t2_lost && TV_FABS(phi1 - phi2) > lim->tps_disagree_max_rad;
         const int f_sup = out->supply_V < lim->supply_min_V || out->supply_V > lim->supply_max_V;
@@ -692,7 +734,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     /* ---- Diagnostics before the estimator (firmware/diag/diag_detect.h) ---- */
     app_diag_snapshot(app, in, out, &dsnap);
     {
-        switch (app_diag_pre(app, in, phi1, phi2, current, &dsnap)) {
+        switch (app_diag_pre(app, in, phi1, phi2, &dsnap)) {
         case DIAG_TPS_ONLY1: /* track 2 named: track 1 alone */
             angle = phi1;
             use_mask |= EKF_CH_BIT(EKF_CH_ANGLE) | EKF_CH_BIT(EKF_CH_VELOCITY);
@@ -727,6 +769,8 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     if (app->have_last_angle && in->t_us > app->last_angle_t_us) {
         meas.z[EKF_CH_VELOCITY] = (angle - app->last_angle_rad) / ((tv_real_t)(in->t_us - app->last_angle_t_us) * TV_R(1e-6));
     }
+    app_diag_motor(app, in, current, angle_ok && app->have_last_angle && in->t_us > app->last_angle_t_us,
+                   meas.z[EKF_CH_VELOCITY], &dsnap); /* diagnostics: open winding, bridge */
     out->ekf_status = TV_OK;
     for (k = 0u; k < periods; ++k) {
         /* After a missed sample the outputs were forced off: the first period ran with the

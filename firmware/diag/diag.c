@@ -17,7 +17,12 @@
  * 200 ms (the estimated resistance is a slow, filtered quantity). Healing: 1 s of consecutive
  * passes. P2119 / P1A02 are checked every DIAG_PARAM_DECIM steps (10 ms, diag_detect.h) and
  * only while the plate moves: their counts are checks, 100 = 1 s of informed operation to
- * confirm and to heal. */
+ * confirm and to heal. P1A03 10 ms (failing checks need a current under a lost direction, a
+ * discriminating sample; 1 s to heal). P0562 is checked every DIAG_SUPPLY_DECIM steps (10 ms):
+ * 50 checks = 500 ms below the threshold confirm, 100 checks (1 s) above it heal. P0122 / P0222
+ * count low samples (a failed check each) and pass once per fixed DIAG_TPS_CLEAN_WINDOW (500 ms)
+ * without one: 5 dropouts confirm unless clean windows come between them (a steady 0 V in 5 ms,
+ * as the range check's latch), 2 clean windows (1-1.5 s) heal. */
 static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
     {"P0121", "tps1_fault", "throttle position sensor 1 range/performance (track 1 named by the estimator's vote)", 20u, 1000u,
      DIAG_ACTION_LIMITED},
@@ -38,6 +43,13 @@ static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
     {"P2119", "friction_high", "throttle actuator control throttle body range/performance (friction level above its range)",
      100u, 100u, DIAG_ACTION_NONE},
     {"P1A02", "spring_weak", "return-spring preload below its range (limp-home position not assured; project code)", 100u, 100u,
+     DIAG_ACTION_LIMITED},
+    {"P1A03", "bridge_fault", "H-bridge: one drive direction lost (current flows, the terminals see no voltage; project code)", 10u,
+     1000u, DIAG_ACTION_SAFE},
+    {"P0562", "supply_sag", "system voltage low (measured supply below its threshold)", 50u, 100u, DIAG_ACTION_NONE},
+    {"P0122", "tps1_fault", "throttle position sensor 1 circuit low (track below its range, intermittent dropouts included)", 5u, 2u,
+     DIAG_ACTION_LIMITED},
+    {"P0222", "tps2_fault", "throttle position sensor 2 circuit low (track below its range, intermittent dropouts included)", 5u, 2u,
      DIAG_ACTION_LIMITED},
 };
 

@@ -55,6 +55,10 @@ typedef enum {
     DIAG_DTC_P1A01,     /**< project code: winding resistance below its range (shorted turns) */
     DIAG_DTC_P2119,     /**< throttle actuator control throttle body range/performance: friction level above its range */
     DIAG_DTC_P1A02,     /**< project code: return-spring preload below its range (limp-home not assured) */
+    DIAG_DTC_P1A03 = 10, /**< project code: H-bridge, one drive direction lost (current, but no voltage at the terminals) */
+    DIAG_DTC_P0562 = 11, /**< system voltage low: the measured supply below its threshold */
+    DIAG_DTC_P0122 = 12, /**< throttle position sensor 1 (A) circuit low, including intermittent dropouts */
+    DIAG_DTC_P0222 = 13, /**< throttle position sensor 2 (B) circuit low, including intermittent dropouts */
     DIAG_DTC_COUNT      /**< number of codes (not a code) */
 } diag_dtc_t;
 

@@ -1,6 +1,7 @@
 /**
  * @file diag_detect.c
- * @brief The first fault detectors: track vote, jam, open winding (see diag_detect.h).
+ * @brief The fault detectors: track vote, jam, open winding and bridge direction, winding
+ *        resistance, adapted mechanics, supply, track circuit low (see diag_detect.h).
  */
 #include "diag_detect.h"
 
@@ -31,6 +32,9 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->preload_low_rel = TV_R(0.4);
     cfg->preload_sigma_max = TV_R(0.03);
     cfg->param_excite_rad_s = TV_R(0.5);
+    cfg->bridge_lost_frac = TV_R(0.25);
+    cfg->supply_low_V = TV_R(11.5);
+    cfg->supply_hyst_V = TV_R(0.5);
 }
 
 int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
@@ -43,7 +47,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->jam_break_factor, cfg->jam_still_rad, cfg->open_u_min_V,  cfg->open_i_max_A,
                                  cfg->r_high_frac,      cfg->r_low_frac,    cfg->r_sigma_max_frac,
                                  cfg->r_excite_A,       cfg->friction_high_rel, cfg->friction_sigma_max,
-                                 cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s};
+                                 cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
+                                 cfg->bridge_lost_frac, cfg->supply_low_V,      cfg->supply_hyst_V};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -55,7 +60,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         }
     }
     if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0)) ||
-        !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0))) {
+        !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0)) ||
+        !(cfg->bridge_lost_frac < TV_R(1.0))) {
         return TV_ERR_CONFIG;
     }
     memset(dd, 0, sizeof *dd);
@@ -151,17 +157,141 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
     (void)diag_report(d, code, TV_FABS(phi_est_rad - oldest) < dd->cfg.jam_still_rad ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(e));
 }
 
-void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, tv_real_t current_A,
-                     const diag_snapshot_t *snap)
+int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T)
 {
-    if (dd == NULL || d == NULL || snap == NULL || !active || !TV_IS_FINITE(u_V) || !TV_IS_FINITE(emf_V) ||
-        !TV_IS_FINITE(current_A)) {
+    if (dd == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!TV_IS_FINITE(a_T) || !TV_IS_FINITE(b_T) || a_T < TV_R(0.0) || !(a_T < TV_R(1.0)) || !(b_T > TV_R(0.0))) {
+        return TV_ERR_CONFIG;
+    }
+    dd->arm_a = a_T;
+    dd->arm_inv_b = TV_R(1.0) / b_T;
+    return TV_OK;
+}
+
+void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, int meas_ok,
+                     tv_real_t emf_meas_V, tv_real_t current_A, const diag_snapshot_t *snap)
+{
+    tv_real_t i0;
+    tv_real_t au;
+    if (dd == NULL || d == NULL || snap == NULL) {
         return;
     }
-    if (TV_FABS(u_V) < dd->cfg.open_u_min_V || TV_FABS(u_V - emf_V) < dd->cfg.open_u_min_V) {
+    i0 = dd->i_prev_A;
+    dd->i_prev_A = TV_R(0.0);
+    if (!active || !TV_IS_FINITE(u_V) || !TV_IS_FINITE(emf_V) || !TV_IS_FINITE(current_A)) {
         return;
     }
-    (void)diag_report(d, DIAG_DTC_P2100, TV_FABS(current_A) < dd->cfg.open_i_max_A ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(current_A));
+    dd->i_prev_A = current_A;
+    au = TV_FABS(u_V);
+    if (au < dd->cfg.open_u_min_V || TV_FABS(u_V - emf_V) < dd->cfg.open_u_min_V) {
+        return;
+    }
+    {
+        /* the terminal voltage the current implies (exact armature solution over the period),
+         * with the back-EMF of the measured motion (the estimate's velocity can be far off
+         * against a stop the model places elsewhere) */
+        const int judged = meas_ok && dd->arm_inv_b > TV_R(0.0) && TV_IS_FINITE(emf_meas_V);
+        const tv_real_t v = emf_meas_V + (current_A - dd->arm_a * i0) * dd->arm_inv_b;
+        const int no_volt = judged && TV_FABS(v) < dd->cfg.bridge_lost_frac * au;
+        const int8_t dir = u_V > TV_R(0.0) ? (int8_t)1 : (int8_t)-1;
+        const int bridge_suspect = d->code[DIAG_DTC_P1A03].counter > 0u || d->code[DIAG_DTC_P1A03].confirmed;
+        if (TV_FABS(current_A) >= dd->cfg.open_i_max_A) {
+            /* the winding conducts: not open (a pass changes nothing on an idle code: not reported) */
+            const int open_pending = d->code[DIAG_DTC_P2100].counter > 0u;
+            if (open_pending || d->code[DIAG_DTC_P2100].confirmed) {
+                (void)diag_report(d, DIAG_DTC_P2100, DIAG_PASS, snap, TV_FABS(current_A));
+            }
+            dd->probe_req = 0u;
+            if (judged && TV_FABS(emf_meas_V) <= au) {
+                diag_result_t r = DIAG_NOT_RUN;
+                if (no_volt) {
+                    r = DIAG_FAIL; /* current, but no voltage at the terminals: shorted by the bridge */
+                    dd->dead_dir = dir;
+                } else if (dd->dead_dir == -dir) {
+                    /* the other direction works: after no current in the suspected one (the
+                     * reverse pulse's answer), that direction is lost */
+                    r = open_pending ? DIAG_FAIL : DIAG_NOT_RUN;
+                } else if (bridge_suspect) {
+                    r = DIAG_PASS; /* this direction works */
+                } else {
+                    dd->dead_dir = 0; /* this direction works, nothing suspected: idle, no report */
+                }
+                if (r != DIAG_NOT_RUN) {
+                    (void)diag_report(d, DIAG_DTC_P1A03, r, snap, v / u_V);
+                }
+            }
+        } else if (no_volt) {
+            /* no current, no motion: either fault. After evidence of a conducting winding, the
+             * bridge; else an open winding, and a reverse pulse is asked for to tell them apart */
+            dd->dead_dir = dir;
+            if (bridge_suspect) {
+                (void)diag_report(d, DIAG_DTC_P1A03, DIAG_FAIL, snap, v / u_V);
+            } else {
+                (void)diag_report(d, DIAG_DTC_P2100, DIAG_FAIL, snap, TV_FABS(current_A));
+                dd->probe_req = 1u;
+            }
+        } else {
+            /* no current while the plate moves (or unjudged): the winding is open */
+            (void)diag_report(d, DIAG_DTC_P2100, DIAG_FAIL, snap, TV_FABS(current_A));
+        }
+    }
+}
+
+int diag_probe_direction(const diag_detect_t *dd)
+{
+    return dd != NULL && dd->probe_req ? -(int)dd->dead_dir : 0;
+}
+
+void diag_probe_done(diag_detect_t *dd)
+{
+    if (dd != NULL) {
+        dd->probe_req = 0u;
+    }
+}
+
+void diag_circuit_check(diag_detect_t *dd, diag_t *d, int low1, int low2, tv_real_t supply_V, const diag_snapshot_t *snap)
+{
+    int k;
+    if (dd == NULL || d == NULL || snap == NULL) {
+        return;
+    }
+    if (low1 || low2) {
+        /* a track below its range: one failed check each, and its window is not clean */
+        for (k = 0; k < 2; ++k) {
+            if (k == 0 ? low1 : low2) {
+                dd->tps_dirty[k] = 1u;
+                if (dd->tps_low_n[k] < 0xFFFFu) {
+                    ++dd->tps_low_n[k];
+                }
+                (void)diag_report(d, k == 0 ? DIAG_DTC_P0122 : DIAG_DTC_P0222, DIAG_FAIL, snap, (tv_real_t)dd->tps_low_n[k]);
+            }
+        }
+    }
+    if (++dd->supply_tick < DIAG_SUPPLY_DECIM) {
+        return;
+    }
+    dd->supply_tick = 0u;
+    if (supply_V < dd->cfg.supply_low_V) {
+        (void)diag_report(d, DIAG_DTC_P0562, DIAG_FAIL, snap, supply_V);
+    } else if (supply_V >= dd->cfg.supply_low_V + dd->cfg.supply_hyst_V) {
+        (void)diag_report(d, DIAG_DTC_P0562, DIAG_PASS, snap, supply_V);
+    } else {
+        /* inside the hysteresis (or not finite): not run */
+    }
+    if (++dd->tps_win_tick < DIAG_TPS_CLEAN_WINDOW / DIAG_SUPPLY_DECIM) {
+        return;
+    }
+    /* the end of a window: a clean one passes once */
+    dd->tps_win_tick = 0u;
+    for (k = 0; k < 2; ++k) {
+        if (!dd->tps_dirty[k]) {
+            dd->tps_low_n[k] = 0u;
+            (void)diag_report(d, k == 0 ? DIAG_DTC_P0122 : DIAG_DTC_P0222, DIAG_PASS, snap, TV_R(0.0));
+        }
+        dd->tps_dirty[k] = 0u;
+    }
 }
 
 void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t current_A, tv_real_t r_est_ohm,

@@ -46,6 +46,37 @@
  *     Preload: while sigma(m) <= preload_sigma_max, below preload_low_rel fails P1A02, else passes.
  *     The bounds lie outside the healthy population (friction +-30 %, preload +-20 % around the
  *     class nominal, plant_draw.h) with the estimation error measured on it (README).
+ *   BRIDGE DIRECTION LOST (P1A03), in the open-winding check's samples (same gate): the terminal
+ *     voltage the measured current implies, v = e + (i1 - a_T i0) / b_T (e = n Ke times the
+ *     differentiated measured angle, the one the estimator gets: the estimate's velocity can be
+ *     far off against a stop that the model places a little elsewhere, measured; the model's
+ *     exact armature solution over one period inverted: i0 the current measured at the
+ *     period's start, i1 at its end, a_T = a^N, b_T = b (1 + a + ... + a^(N-1)) with the
+ *     model's nominal R and L, diag_detect_set_armature()), against the commanded u. A lost direction applies 0 V (both low
+ *     sides on): the winding is shorted and a moving plate's back-EMF drives i = -n Ke w / R, so
+ *     v is about 0 while a current flows; an open winding carries no current at all (v = the
+ *     floating back-EMF); a healthy bridge gives v about u. With |current| >= open_i_max_A and
+ *     |e| <= |u|: |v| < bridge_lost_frac |u| fails P1A03 (and passes P2100: the winding
+ *     conducts), else passes a pending or confirmed P1A03 (this direction works; an idle code is
+ *     not reported: a pass would change nothing). No current while the plate moves
+ *     (|v| >= bridge_lost_frac |u|: the floating back-EMF): P2100 fails (open). No current and no
+ *     motion (|v| < bridge_lost_frac |u|): both faults look alike (nothing flows, nothing moves;
+ *     the terminal voltage is not measured): P2100 fails as before (its 10 ms target), the
+ *     direction is suspected, and the detector asks for a REVERSE PULSE: the application drives
+ *     the next period the other way (diag_probe_direction(), one period at the limited duty). If
+ *     current then flows while P2100 is pending, the winding conducts: P2100 passes and P1A03
+ *     fails, and later motionless no-current samples fail P1A03 instead of P2100 (as long as
+ *     P1A03 is pending or confirmed); a sample in the other, working direction neither passes nor
+ *     fails P1A03. An open winding never conducts: its pulses fail P2100 too.
+ *   SUPPLY LOW (P0562): every DIAG_SUPPLY_DECIM calls of diag_circuit_check(), the measured
+ *     supply below supply_low_V fails, at or above supply_low_V + supply_hyst_V passes, in
+ *     between nothing.
+ *   TRACK CIRCUIT LOW (P0122 track 1, P0222 track 2), an event counter: every sample whose
+ *     track reads below its range (the caller's tps_min_counts: a 0 V reading, a lost wiper) is a
+ *     failed check; every fixed window of DIAG_TPS_CLEAN_WINDOW samples without one gives one
+ *     passed check. A steady low track confirms at the code's count (ms); sporadic dropouts add
+ *     up as long as most windows hold one (the 1 kHz leaky counter alone would leak a 10 %
+ *     dropout rate away: 9 passes per failure).
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -66,6 +97,13 @@ extern "C" {
 
 /** The adapted-mechanics check runs every this many calls of diag_param_check() (10 ms at 1 kHz). */
 #define DIAG_PARAM_DECIM 10u
+
+/** The supply check runs every this many calls of diag_circuit_check() (10 ms at 1 kHz). */
+#define DIAG_SUPPLY_DECIM 10u
+
+/** The track low-circuit check's window (500 ms, a multiple of DIAG_SUPPLY_DECIM): a window without
+ *  a low sample gives the track's code one passed check. */
+#define DIAG_TPS_CLEAN_WINDOW 500u
 
 /** Detector thresholds (diag_detect_config_default()). */
 typedef struct {
@@ -94,6 +132,11 @@ typedef struct {
     tv_real_t preload_sigma_max;  /**< the preload check runs while sigma(m) <= this [-], > 0; default 0.03 */
     tv_real_t param_excite_rad_s; /**< ... and both only while the estimated |velocity| is at least this
                                        [rad/s], > 0; default 0.5 (the estimator's own f / m update threshold) */
+    tv_real_t bridge_lost_frac;   /**< implied terminal voltage below this fraction of |u| fails P1A03 [-], (0, 1);
+                                       default 0.25 (healthy: 0.5 and more with R +-20 %, warm, |n Ke w| <= |u|) */
+    tv_real_t supply_low_V;       /**< measured supply below this fails P0562 [V], > 0; default 11.5 (healthy
+                                       units measure 12.4 V and more: 13.5 +- 1 V, divider +-1 %) */
+    tv_real_t supply_hyst_V;      /**< ... and passes from supply_low_V + this [V], > 0; default 0.5 */
 } diag_detect_config_t;
 
 /** Detector state. Allocate statically; diag_detect_init() before use. */
@@ -104,6 +147,15 @@ typedef struct {
     uint8_t hist_i;        /**< next slot of phi_hist */
     uint8_t tps_named;     /**< 0: no track named; 1 or 2: the track the vote named (kept out) */
     uint8_t param_tick;    /**< calls of diag_param_check() since its last check, 0..DIAG_PARAM_DECIM - 1 */
+    uint8_t supply_tick;   /**< calls of diag_circuit_check() since its last check, 0..DIAG_SUPPLY_DECIM - 1 */
+    uint8_t tps_win_tick;  /**< supply checks since the track window began, 0..DIAG_TPS_CLEAN_WINDOW / DIAG_SUPPLY_DECIM - 1 */
+    uint8_t tps_dirty[2];  /**< per track, 1: a low sample in the current window */
+    uint16_t tps_low_n[2]; /**< per track, low samples since the last clean window (freeze value) */
+    tv_real_t arm_a;       /**< a_T of the armature over one period (diag_detect_set_armature()) */
+    tv_real_t arm_inv_b;   /**< 1 / b_T [ohm]; 0: not set, no bridge check */
+    tv_real_t i_prev_A;    /**< the current measured at the last call of diag_open_check() (0 when not active) */
+    int8_t dead_dir;       /**< the drive direction suspected lost (+1, -1; 0: none) */
+    uint8_t probe_req;     /**< 1: a reverse pulse against dead_dir is asked for (diag_probe_direction()) */
 } diag_detect_t;
 
 /** Defaults (see diag_detect_config_t). Does nothing when cfg is NULL. */
@@ -149,15 +201,46 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
                     tv_real_t u_break_V, const diag_snapshot_t *snap);
 
 /**
- * The open-winding check (see the file comment); reports P2100.
+ * The open-winding and bridge-direction check (see the file comment); reports P2100 and P1A03
+ * (P1A03 only after diag_detect_set_armature()). Call once per step: it keeps the current for
+ * the next call.
  * @param active     1 when the bridge drove the period that just ended and the current sample is plausible
  * @param u_V        the voltage applied over that period [V]
- * @param emf_V      the back-EMF n Ke w at its start [V]
+ * @param emf_V      the back-EMF n Ke w at its start [V] (the estimate's w: P2100's gate)
+ * @param meas_ok    1 when emf_meas_V is known (an angle now and one before); 0: P1A03 not judged
+ * @param emf_meas_V the back-EMF of the measured motion, n Ke times the differentiated angle [V]
  * @param current_A  the measured current [A]
- * @param snap       the step's snapshot (value in the freeze frame: |current| [A])
+ * @param snap       the step's snapshot (value in the freeze frame: P2100 |current| [A]; P1A03 the
+ *                   implied terminal voltage over the commanded one, v / u [-])
  */
-void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, tv_real_t current_A,
-                     const diag_snapshot_t *snap);
+void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv_real_t emf_V, int meas_ok,
+                     tv_real_t emf_meas_V, tv_real_t current_A, const diag_snapshot_t *snap);
+
+/**
+ * The armature's exact solution over one period, for the bridge check: i1 = a_T i0 + b_T (u - e).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (a_T not in [0, 1), b_T not > 0).
+ */
+int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T);
+
+/**
+ * The reverse pulse the bridge check asks for (see the file comment).
+ * @return +1 or -1: drive the next period in this direction (then diag_probe_done()); 0: none
+ */
+int diag_probe_direction(const diag_detect_t *dd);
+
+/** The pulse was applied (or is no longer wanted). */
+void diag_probe_done(diag_detect_t *dd);
+
+/**
+ * The supply and track low-circuit checks (see the file comment); report P0562, P0122, P0222.
+ * Call once per step: the supply is checked at every DIAG_SUPPLY_DECIM-th call (the first at the
+ * DIAG_SUPPLY_DECIM-th), the tracks at every call.
+ * @param low1, low2  1 when the track's sample is below its range
+ * @param supply_V    the measured supply [V] (P0562's freeze value)
+ * @param snap        the step's snapshot (P0122 / P0222 freeze value: low samples counted since
+ *                    the last clean window [-])
+ */
+void diag_circuit_check(diag_detect_t *dd, diag_t *d, int low1, int low2, tv_real_t supply_V, const diag_snapshot_t *snap);
 
 /**
  * The winding-resistance check (see the file comment); reports P2101, P1A01.
