@@ -39,6 +39,20 @@ static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
      100u, 100u, DIAG_ACTION_NONE},
     {"P1A02", "spring_weak", "return-spring preload below its range (limp-home position not assured; project code)", 100u, 100u,
      DIAG_ACTION_LIMITED},
+    /* 10..13: placeholders for the codes of other branches (same indices there); no detector
+     * reports them on this branch */
+    {"P1A03", "bridge_fault", "(placeholder: another branch's code) H-bridge drive direction lost", 1000u, 1000u,
+     DIAG_ACTION_NONE},
+    {"P0562", "supply_sag", "(placeholder: another branch's code) system voltage low", 1000u, 1000u, DIAG_ACTION_NONE},
+    {"P0122", "tps1_fault", "(placeholder: another branch's code) position sensor 1 circuit", 1000u, 1000u,
+     DIAG_ACTION_NONE},
+    {"P0222", "tps2_fault", "(placeholder: another branch's code) position sensor 2 circuit", 1000u, 1000u,
+     DIAG_ACTION_NONE},
+    /* P1A04: each check is one window (DIAG_ISENS_ZERO_N samples at rest or DIAG_ISENS_WIN driven
+     * samples, diag_detect.h): 4 failing windows confirm (128 ms at rest, 2 s in service), 8
+     * passing ones heal */
+    {"P1A04", "current_sensor_fault", "motor current sensor range/performance (offset; project code)", 4u, 8u,
+     DIAG_ACTION_NONE},
 };
 
 const diag_dtc_info_t *diag_dtc_info(diag_dtc_t dtc)

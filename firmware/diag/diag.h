@@ -55,6 +55,14 @@ typedef enum {
     DIAG_DTC_P1A01,     /**< project code: winding resistance below its range (shorted turns) */
     DIAG_DTC_P2119,     /**< throttle actuator control throttle body range/performance: friction level above its range */
     DIAG_DTC_P1A02,     /**< project code: return-spring preload below its range (limp-home not assured) */
+    /* 10..13: placeholders for the codes other branches of issue 12 add at these indices (the
+     * merge replaces them); never reported on this branch */
+    DIAG_DTC_P1A03,     /**< (placeholder) H-bridge: one drive direction lost */
+    DIAG_DTC_P0562,     /**< (placeholder) system voltage low */
+    DIAG_DTC_P0122,     /**< (placeholder) position sensor 1 circuit */
+    DIAG_DTC_P0222,     /**< (placeholder) position sensor 2 circuit */
+    DIAG_DTC_P1A04,     /**< project code: motor current sensor range/performance (an offset: the zero check at
+                             rest and the in-service bias of the current innovation) */
     DIAG_DTC_COUNT      /**< number of codes (not a code) */
 } diag_dtc_t;
 
