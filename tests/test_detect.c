@@ -369,11 +369,12 @@ static tv_real_t isens_w(int k)
 /* The current-sensor checks' timing on scripted inputs (P1A04, diag_detect.h):
  * ZERO CHECK: the bridge off; the first DIAG_ISENS_SETTLE - 1 calls do not count (the current
  * decays), then every DIAG_ISENS_ZERO_N counted samples are one check: a mean of 0.05 A fails,
- * and the 4th failing check (the code's confirm count) confirms, i.e. at counted sample 4 x 32 =
- * 128, with the mean in the freeze frame; a healthy sensor reading +-0.01 A of noise (mean 0)
+ * and the 6th failing check (the code's confirm count) confirms, i.e. at counted sample 6 x 32 =
+ * 192, with the mean in the freeze frame; a healthy sensor reading +-0.01 A of noise (mean 0)
  * passes; 8 passing checks heal. IN SERVICE: y = b + 0.2 i + 0.01 w (a resistance error of 20 %
- * of 1/R and a back-EMF error, the healthy spread) with b = 0.05 A fails every window of
- * DIAG_ISENS_WIN samples and confirms at the 4th (sample 2,000), the intercept 0.05 in the freeze
+ * of 1/R and a back-EMF error, the healthy spread; i the predicted current, measured = i + y) with
+ * b = 0.05 A fails every window of DIAG_ISENS_WIN samples and confirms at the 6th (sample 3,000),
+ * the intercept 0.05 in the freeze
  * frame; with b = 0 it passes however large the slopes; samples above 0.3 A are skipped, a
  * constant current is not judged. */
 static void test_current_sensor_check_timing(void)
@@ -407,7 +408,7 @@ static void test_current_sensor_check_timing(void)
             first = k;
         }
     }
-    TV_CHECK_EQ_INT(first, (int)DIAG_ISENS_SETTLE - 1 + 4 * 32);
+    TV_CHECK_EQ_INT(first, (int)DIAG_ISENS_SETTLE - 1 + 6 * 32);
     TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.05, 1e-5);
     TV_CHECK_EQ_INT(d.code[DIAG_DTC_P1A04].freeze.t_us, (uint64_t)first * 1000u);
     /* an implausible sample is not counted: healing needs 8 x 32 counted zero samples */
@@ -432,7 +433,8 @@ static void test_current_sensor_check_timing(void)
     for (k = 0; k < 20 * (int)DIAG_ISENS_WIN; ++k) {
         const tv_real_t i = isens_i(k);
         const tv_real_t w = isens_w(k);
-        diag_current_sensor_check(&dd, &d, 1, 1, 1, i, TV_R(0.2) * i + TV_R(0.01) * w, w, &snap);
+        const tv_real_t y = TV_R(0.2) * i + TV_R(0.01) * w;
+        diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap); /* measured = predicted + innovation */
     }
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_confirmed(&d, DIAG_DTC_P1A04));
     /* a constant current (one sign, one speed): the intercept is not determined, not judged */
@@ -445,19 +447,20 @@ static void test_current_sensor_check_timing(void)
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
     diag_init(&d);
     first = -1;
-    for (k = 0; k < 6 * (int)DIAG_ISENS_WIN && first < 0; ++k) {
+    for (k = 0; k < 8 * (int)DIAG_ISENS_WIN && first < 0; ++k) {
         const tv_real_t i = isens_i(k);
         const tv_real_t w = isens_w(k);
         snap.t_us = (uint64_t)k * 1000u;
         diag_current_sensor_check(&dd, &d, 1, 1, 1, TV_R(2.0), TV_R(1.0), w, &snap);
-        diag_current_sensor_check(&dd, &d, 1, 1, 1, i, TV_R(0.05) + TV_R(0.2) * i + TV_R(0.01) * w, w, &snap);
+        const tv_real_t y = TV_R(0.05) + TV_R(0.2) * i + TV_R(0.01) * w;
+        diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap);
         if (diag_confirmed(&d, DIAG_DTC_P1A04)) {
             first = k;
         }
     }
-    /* the first DIAG_ISENS_SETTLE - 1 calls (bridge just on) do not count: the 2,000th counted
-     * sample is the call pair k = 1,999 */
-    TV_CHECK_EQ_INT(first, 4 * (int)DIAG_ISENS_WIN - 1);
+    /* the first DIAG_ISENS_SETTLE - 1 calls (bridge just on) do not count: the 3,000th counted
+     * sample is the call pair k = 2,999 */
+    TV_CHECK_EQ_INT(first, 6 * (int)DIAG_ISENS_WIN - 1);
     TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.05, 1e-4);
     /* a window interrupted by the bridge switching off restarts (and the zero check then runs) */
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
@@ -465,7 +468,7 @@ static void test_current_sensor_check_timing(void)
     for (k = 0; k < 10 * (int)DIAG_ISENS_WIN; ++k) {
         const tv_real_t i = isens_i(k);
         const tv_real_t w = isens_w(k);
-        diag_current_sensor_check(&dd, &d, k % 400 != 0, 1, 1, k % 400 == 0 ? TV_R(0.0) : i, TV_R(0.05) + i, w, &snap);
+        diag_current_sensor_check(&dd, &d, k % 400 != 0, 1, 1, k % 400 == 0 ? TV_R(0.0) : TV_R(0.05) + i, TV_R(0.05), w, &snap);
     }
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
     /* thresholds out of range are refused */
@@ -478,8 +481,8 @@ static void test_current_sensor_check_timing(void)
 
 /* A current-sensor offset of +-50 mA from 1.0 s (issue 12's target) on the nominal unit, seed 1
  * and 2: P1A04 confirmed and no other code. With the bridge off (limp_home: off from 0.6 s to
- * 1.2 s) the zero check confirms within 4 x 32 ms + 2 ms of the onset; in service (standstill,
- * closed-loop steps, 12 s) the regression needs 4 windows of 500 samples at |i| <= 0.3 A:
+ * 1.2 s) the zero check confirms within 6 x 32 ms + 2 ms of the onset; in service (standstill,
+ * closed-loop steps, 12 s) the regression needs 6 windows of 500 samples at |i| <= 0.3 A:
  * within 10 s of the onset. A current-gain error of 5 % is not detected (README: it is a
  * resistance / torque-constant error inside the population's spread): asserted here so that a
  * change of the statistic that starts seeing it is noticed, and so that it does not confirm
@@ -528,7 +531,7 @@ static void test_current_sensor_offset_detected(void)
     printf("  current offset +-50 mA: P1A04 in %d of %d runs, zero check within %.3f s, in service within %.2f s\n",
            detected, runs, worst_zero, worst_service);
     TV_CHECK_EQ_INT(detected, runs);
-    TV_CHECK_LE(worst_zero, 0.131);
+    TV_CHECK_LE(worst_zero, 0.195);
     TV_CHECK_LE(worst_service, 10.0);
 }
 

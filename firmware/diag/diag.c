@@ -49,9 +49,9 @@ static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
     {"P0222", "tps2_fault", "(placeholder: another branch's code) position sensor 2 circuit", 1000u, 1000u,
      DIAG_ACTION_NONE},
     /* P1A04: each check is one window (DIAG_ISENS_ZERO_N samples at rest or DIAG_ISENS_WIN driven
-     * samples, diag_detect.h): 4 failing windows confirm (128 ms at rest, 2 s in service), 8
-     * passing ones heal */
-    {"P1A04", "current_sensor_fault", "motor current sensor range/performance (offset; project code)", 4u, 8u,
+     * samples, diag_detect.h): 6 failing windows confirm (192 ms at rest, 3,000 samples at small
+     * currents in service), 8 passing ones heal */
+    {"P1A04", "current_sensor_fault", "motor current sensor range/performance (offset; project code)", 6u, 8u,
      DIAG_ACTION_NONE},
 };
 

@@ -34,7 +34,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->isens_zero_max_A = TV_R(0.02);
     cfg->isens_bias_max_A = TV_R(0.035);
     cfg->isens_i_max_A = TV_R(0.3);
-    cfg->isens_vif_max = TV_R(20.0);
+    cfg->isens_vif_max = TV_R(4.0);
 }
 
 int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
@@ -249,6 +249,7 @@ static diag_result_t isens_window(const diag_detect_t *dd, tv_real_t *bias)
 void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int current_ok, int innov_ok,
                                tv_real_t current_A, tv_real_t innov_A, tv_real_t w_rad_s, const diag_snapshot_t *snap)
 {
+    tv_real_t i_pred;
     if (dd == NULL || d == NULL || snap == NULL) {
         return;
     }
@@ -285,7 +286,11 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
         dd->isens_n = 0u;
         return;
     }
-    if (TV_FABS(current_A) > dd->cfg.isens_i_max_A) {
+    /* the regressor is the PREDICTED current (measured minus innovation): the measured one
+     * carries the noise that is also in y, which would bias the slope toward 0 and, selected
+     * by a band, the mean of y */
+    i_pred = current_A - innov_A;
+    if (TV_FABS(i_pred) > dd->cfg.isens_i_max_A) {
         return; /* outside the band: not counted, the window goes on */
     }
     /* in-service window: the sums of the regression of y on (1, i, w) */
@@ -294,13 +299,13 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
     }
     {
         tv_real_t *s = dd->isens_s;
-        s[0] += current_A;
+        s[0] += i_pred;
         s[1] += w_rad_s;
-        s[2] += current_A * current_A;
-        s[3] += current_A * w_rad_s;
+        s[2] += i_pred * i_pred;
+        s[3] += i_pred * w_rad_s;
         s[4] += w_rad_s * w_rad_s;
         s[5] += innov_A;
-        s[6] += current_A * innov_A;
+        s[6] += i_pred * innov_A;
         s[7] += w_rad_s * innov_A;
     }
     if (++dd->isens_n >= DIAG_ISENS_WIN) {

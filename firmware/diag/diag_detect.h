@@ -52,10 +52,12 @@
  *       fails, else passes (value: the mean [A]).
  *     IN-SERVICE BIAS: while the bridge drives (since at least DIAG_ISENS_SETTLE periods), the
  *       model is the one in service (not during stop learning) and the estimator corrected with
- *       the current, the samples whose measured |current| is at most isens_i_max_A (samples
+ *       the current, the samples whose predicted |current| i is at most isens_i_max_A (samples
  *       above it are skipped, the window goes on) have their current innovation y (measured minus
- *       predicted) regressed on (1, i, w) over DIAG_ISENS_WIN such samples (i the measured
- *       current, w the estimated velocity at the period's start). A sensor offset b adds b to y
+ *       predicted) regressed on (1, i, w) over DIAG_ISENS_WIN such samples (i is the PREDICTED
+ *       current, measured minus innovation: the measured one carries the noise that is also in
+ *       y, which would bias the slope and, selected by the band, the mean of y; w the estimated
+ *       velocity at the period's start). A sensor offset b adds b to y
  *       whatever the current's sign; a resistance error (and a current-gain error, which looks
  *       like one) adds a term proportional to i, a back-EMF constant error one proportional to w:
  *       the intercept separates the offset from the healthy units' spread in R and Kt/Ke. The
@@ -91,8 +93,10 @@ extern "C" {
 #define DIAG_ISENS_SETTLE 2u
 /** Current-sensor zero check: samples at rest per check (32 ms at 1 kHz). */
 #define DIAG_ISENS_ZERO_N 32u
-/** Current-sensor in-service check: driven samples per window (500 ms at 1 kHz). */
+/** Current-sensor in-service check: driven samples in the band per window. */
+#ifndef DIAG_ISENS_WIN
 #define DIAG_ISENS_WIN 500u
+#endif
 
 /** Detector thresholds (diag_detect_config_default()). */
 typedef struct {
@@ -127,8 +131,10 @@ typedef struct {
     tv_real_t isens_bias_max_A;   /**< |intercept| of the in-service window above which P1A04 fails [A], > 0;
                                        default 0.035 (README: healthy population) */
     tv_real_t isens_vif_max;      /**< the window is judged while its intercept's variance inflation is
-                                       at most this [-], >= 1; default 20 */
-    tv_real_t isens_i_max_A;      /**< the window takes the driven samples whose measured |current| is at
+                                       at most this [-], >= 1; default 4 (with 20, a healthy unit whose
+                                       small currents came at one high speed had its back-EMF error
+                                       extrapolated into the intercept: README) */
+    tv_real_t isens_i_max_A;      /**< the window takes the driven samples whose predicted |current| is at
                                        most this [A], > 0; default 0.3 (where a resistance error, however
                                        adapted, can add little: README) */
 } diag_detect_config_t;
