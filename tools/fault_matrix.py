@@ -13,12 +13,11 @@ import math
 import os
 import sys
 
-CODES = ["P0121", "P0221", "P2135", "P2111", "P2112", "P2100", "P2101", "P1A01", "P2119", "P1A02",
-         "P1A03", "P0562", "P0122", "P0222", "P1A04"]  # bit order of diag_dtc_t
+CODES = ["P0121", "P0221", "P2135", "P2111", "P2112", "P2100", "P2101", "P1A01", "P2119", "P1A02"]  # bit order of diag_dtc_t
 EXPECTED = {
     "tps1_": {"P0121"}, "tps2_": {"P0221"}, "jam": {"P2111", "P2112"}, "winding_open": {"P2100"},
     "winding_resistance_high": {"P2101"}, "winding_short": {"P1A01"}, "friction_high": {"P2119"},
-    "spring_weak": {"P1A02"}, "current_offset": {"P1A04"},
+    "spring_weak": {"P1A02"},
 }
 
 
