@@ -372,6 +372,189 @@ static void test_friction_and_spring_codes(void)
     TV_CHECK_LE(lm.worst_s, 8.0);
 }
 
+/* A scripted current for the current-sensor checks: period 50 samples, i sweeps -0.25..+0.25 A
+ * (a triangle) and w a different triangle (period 34 samples, -3..+3 rad/s): both regressors
+ * vary independently, so the window's intercept is well determined. */
+static tv_real_t isens_i(int k)
+{
+    const int p = k % 50;
+    return (tv_real_t)((p < 25 ? p : 50 - p) - 12.5) * TV_R(0.02);
+}
+static tv_real_t isens_w(int k)
+{
+    const int p = k % 34;
+    return (tv_real_t)((p < 17 ? p : 34 - p) - 8.5) * (TV_R(3.0) / TV_R(8.5));
+}
+
+/* The current-sensor checks' timing on scripted inputs (P1A04, diag_detect.h):
+ * ZERO CHECK: the bridge off; the first DIAG_ISENS_SETTLE - 1 calls do not count (the current
+ * decays), then every DIAG_ISENS_ZERO_N counted samples are one check: a mean of 0.05 A fails,
+ * and the 6th failing check (the code's confirm count) confirms, i.e. at counted sample 6 x 32 =
+ * 192, with the mean in the freeze frame; a healthy sensor reading +-0.01 A of noise (mean 0)
+ * passes; 8 passing checks heal. IN SERVICE: y = b + 0.2 i + 0.01 w (a resistance error of 20 %
+ * of 1/R and a back-EMF error, the healthy spread; i the predicted current, measured = i + y) with
+ * b = 0.05 A fails every window of DIAG_ISENS_WIN samples and confirms at the 6th (sample 3,000),
+ * the intercept 0.05 in the freeze
+ * frame; with b = 0 it passes however large the slopes; samples above 0.3 A are skipped, a
+ * constant current is not judged. */
+static void test_current_sensor_check_timing(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    diag_event_t ev;
+    int k;
+    int first = -1;
+    diag_detect_config_default(&cfg);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_init(&d);
+    memset(&snap, 0, sizeof snap);
+    /* zero check, healthy: noise of +-0.01 A around 0 never fails */
+    for (k = 0; k < 5000; ++k) {
+        diag_current_sensor_check(&dd, &d, 0, 1, 0, (k & 1) ? TV_R(0.01) : TV_R(-0.01), TV_R(0.0), TV_R(0.0), &snap);
+    }
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_confirmed(&d, DIAG_DTC_P1A04));
+    /* zero check, an offset of 0.05 A from a fresh start with the bridge off */
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_init(&d);
+    for (k = 1; k <= 400 && first < 0; ++k) {
+        snap.t_us = (uint64_t)k * 1000u;
+        diag_current_sensor_check(&dd, &d, 0, 1, 0, TV_R(0.05), TV_R(0.0), TV_R(0.0), &snap);
+        if (k == (int)DIAG_ISENS_SETTLE - 1 + 32) {
+            TV_CHECK(diag_pending(&d, DIAG_DTC_P1A04)); /* the first check (32 counted samples) failed */
+        }
+        if (diag_confirmed(&d, DIAG_DTC_P1A04)) {
+            first = k;
+        }
+    }
+    TV_CHECK_EQ_INT(first, (int)DIAG_ISENS_SETTLE - 1 + 6 * 32);
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.05, 1e-5);
+    TV_CHECK_EQ_INT(d.code[DIAG_DTC_P1A04].freeze.t_us, (uint64_t)first * 1000u);
+    /* an implausible sample is not counted: healing needs 8 x 32 counted zero samples */
+    for (k = 0; k < 100; ++k) {
+        diag_current_sensor_check(&dd, &d, 0, 0, 0, TV_R(0.0), TV_R(0.0), TV_R(0.0), &snap);
+    }
+    for (k = 1; k <= 8 * 32; ++k) {
+        TV_CHECK(diag_confirmed(&d, DIAG_DTC_P1A04));
+        diag_current_sensor_check(&dd, &d, 0, 1, 0, TV_R(0.0), TV_R(0.0), TV_R(0.0), &snap);
+    }
+    TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P1A04));
+    while (diag_event_pop(&d, &ev)) {
+        if (ev.dtc == DIAG_DTC_P1A04 && ev.kind == DIAG_EV_HEALED) {
+            first = -2;
+        }
+    }
+    TV_CHECK_EQ_INT(first, -2);
+
+    /* in service, healthy: large slopes on i and w, no intercept: passes (judged: no pending) */
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_init(&d);
+    for (k = 0; k < 20 * (int)DIAG_ISENS_WIN; ++k) {
+        const tv_real_t i = isens_i(k);
+        const tv_real_t w = isens_w(k);
+        const tv_real_t y = TV_R(0.2) * i + TV_R(0.01) * w;
+        diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap); /* measured = predicted + innovation */
+    }
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_confirmed(&d, DIAG_DTC_P1A04));
+    /* a constant current (one sign, one speed): the intercept is not determined, not judged */
+    for (k = 0; k < 10 * (int)DIAG_ISENS_WIN; ++k) {
+        diag_current_sensor_check(&dd, &d, 1, 1, 1, TV_R(0.2), TV_R(0.1), TV_R(1.0), &snap);
+    }
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_confirmed(&d, DIAG_DTC_P1A04));
+    /* in service, an offset of 0.05 A: the 4th window confirms; samples above 0.3 A interleaved
+     * are skipped (they would pull the intercept: y = 1 there) and do not count */
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_init(&d);
+    first = -1;
+    for (k = 0; k < 8 * (int)DIAG_ISENS_WIN && first < 0; ++k) {
+        const tv_real_t i = isens_i(k);
+        const tv_real_t w = isens_w(k);
+        snap.t_us = (uint64_t)k * 1000u;
+        diag_current_sensor_check(&dd, &d, 1, 1, 1, TV_R(2.0), TV_R(1.0), w, &snap);
+        const tv_real_t y = TV_R(0.05) + TV_R(0.2) * i + TV_R(0.01) * w;
+        diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap);
+        if (diag_confirmed(&d, DIAG_DTC_P1A04)) {
+            first = k;
+        }
+    }
+    /* the first DIAG_ISENS_SETTLE - 1 calls (bridge just on) do not count: the 3,000th counted
+     * sample is the call pair k = 2,999 */
+    TV_CHECK_EQ_INT(first, 6 * (int)DIAG_ISENS_WIN - 1);
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.05, 1e-4);
+    /* a window interrupted by the bridge switching off restarts (and the zero check then runs) */
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_init(&d);
+    for (k = 0; k < 10 * (int)DIAG_ISENS_WIN; ++k) {
+        const tv_real_t i = isens_i(k);
+        const tv_real_t w = isens_w(k);
+        diag_current_sensor_check(&dd, &d, k % 400 != 0, 1, 1, k % 400 == 0 ? TV_R(0.0) : TV_R(0.05) + i, TV_R(0.05), w, &snap);
+    }
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+    /* thresholds out of range are refused */
+    cfg.isens_vif_max = TV_R(0.5);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    diag_detect_config_default(&cfg);
+    cfg.isens_i_max_A = TV_R(0.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+}
+
+/* A current-sensor offset of +-50 mA from 1.0 s (issue 12's target) on the nominal unit, seed 1
+ * and 2: P1A04 confirmed and no other code. With the bridge off (limp_home: off from 0.6 s to
+ * 1.2 s) the zero check confirms within 6 x 32 ms + 2 ms of the onset; in service (standstill,
+ * closed-loop steps, 12 s) the regression needs 6 windows of 500 samples at |i| <= 0.3 A:
+ * within 10 s of the onset. A current-gain error of 5 % is not detected (README: it is a
+ * resistance / torque-constant error inside the population's spread): asserted here so that a
+ * change of the statistic that starts seeing it is noticed, and so that it does not confirm
+ * another code. */
+static void test_current_sensor_offset_detected(void)
+{
+    static const char *const spec[2] = {"current_offset:0.05@1.0", "current_offset:-0.05@1.0"};
+    static const sim_scenario_t scn[3] = {SIM_SCN_LIMP_HOME, SIM_SCN_STANDSTILL, SIM_SCN_CLOSED_STEPS};
+    static plant_config_t pc;
+    static app_config_t ac;
+    sim_result_t r;
+    uint64_t seed;
+    int s;
+    int f;
+    int d;
+    int detected = 0;
+    int runs = 0;
+    double worst_zero = 0.0;
+    double worst_service = 0.0;
+    plant_config_default(&pc);
+    app_config_default(&ac);
+    for (seed = 1u; seed <= 2u; ++seed) {
+        for (s = 0; s < 3; ++s) {
+            for (f = 0; f < 2; ++f) {
+                run_with_duration(&pc, &ac, scn[s], seed, spec[f], s == 0 ? 0.0 : 12.0, &r);
+                ++runs;
+                if (isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04])) {
+                    const double t = r.dtc_confirm_t_s[DIAG_DTC_P1A04] - 1.0;
+                    ++detected;
+                    if (s == 0) {
+                        worst_zero = fmax(worst_zero, t);
+                    } else {
+                        worst_service = fmax(worst_service, t);
+                    }
+                }
+                for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+                    TV_CHECK(d == (int)DIAG_DTC_P1A04 || !isfinite(r.dtc_confirm_t_s[d]));
+                }
+            }
+        }
+        run_with_duration(&pc, &ac, SIM_SCN_CLOSED_STEPS, seed, "current_gain:5@1.0", 12.0, &r);
+        for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+            TV_CHECK(!isfinite(r.dtc_confirm_t_s[d]));
+        }
+    }
+    printf("  current offset +-50 mA: P1A04 in %d of %d runs, zero check within %.3f s, in service within %.2f s\n",
+           detected, runs, worst_zero, worst_service);
+    TV_CHECK_EQ_INT(detected, runs);
+    TV_CHECK_LE(worst_zero, 0.195);
+    TV_CHECK_LE(worst_service, 10.0);
+}
+
 /* No code confirmed on healthy units: 12 evaluation units per spread (every third of class b),
  * every benchmark scenario, seed 1, after stop learning (which must not confirm one either). */
 static void test_no_code_confirmed_on_healthy_units(void)
@@ -424,6 +607,8 @@ int main(void)
     TV_TEST_RUN(test_winding_resistance_out_of_range);
     TV_TEST_RUN(test_mechanics_check_timing);
     TV_TEST_RUN(test_friction_and_spring_codes);
+    TV_TEST_RUN(test_current_sensor_check_timing);
+    TV_TEST_RUN(test_current_sensor_offset_detected);
     TV_TEST_RUN(test_no_code_confirmed_on_healthy_units);
     return tv_test_summary();
 }

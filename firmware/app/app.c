@@ -640,6 +640,12 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
                      c->mode != APP_MODE_STOP_LEARN && out->ekf_status == TV_OK && !st_model_in_doubt(&app->st),
                      out->x[TVM_W],
                      out->friction_rel, out->friction_rel_sigma, out->preload_rel, out->preload_rel_sigma, snap);
+    /* the current sensor: zero at rest, no offset in the current innovation under drive */
+    diag_current_sensor_check(&app->ddet, &app->diag, was_on, (out->degraded & APP_DEGRADED_CURRENT) == 0u,
+                              c->mode != APP_MODE_STOP_LEARN && out->ekf_status == TV_OK &&
+                                  out->innov.used[EKF_CH_CURRENT] != 0u,
+                              out->z[EKF_CH_CURRENT],
+                              out->innov.innov[EKF_CH_CURRENT], snap->x[TVM_W], snap);
     out->dtc_action = (uint8_t)diag_summary(&app->diag, &out->dtc_confirmed);
 }
 

@@ -51,6 +51,11 @@ static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
      DIAG_ACTION_LIMITED},
     {"P0222", "tps2_fault", "throttle position sensor 2 circuit low (track below its range, intermittent dropouts included)", 5u, 2u,
      DIAG_ACTION_LIMITED},
+    /* P1A04: each check is one window (DIAG_ISENS_ZERO_N samples at rest or DIAG_ISENS_WIN driven
+     * samples, diag_detect.h): 6 failing windows confirm (192 ms at rest, 3,000 samples at small
+     * currents in service), 8 passing ones heal */
+    {"P1A04", "current_sensor_fault", "motor current sensor range/performance (offset; project code)", 6u, 8u,
+     DIAG_ACTION_NONE},
 };
 
 const diag_dtc_info_t *diag_dtc_info(diag_dtc_t dtc)

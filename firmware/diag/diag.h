@@ -59,6 +59,8 @@ typedef enum {
     DIAG_DTC_P0562 = 11, /**< system voltage low: the measured supply below its threshold */
     DIAG_DTC_P0122 = 12, /**< throttle position sensor 1 (A) circuit low, including intermittent dropouts */
     DIAG_DTC_P0222 = 13, /**< throttle position sensor 2 (B) circuit low, including intermittent dropouts */
+    DIAG_DTC_P1A04 = 14, /**< project code: motor current sensor range/performance (an offset: the zero check at
+                             rest and the in-service bias of the current innovation) */
     DIAG_DTC_COUNT      /**< number of codes (not a code) */
 } diag_dtc_t;
 

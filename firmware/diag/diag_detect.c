@@ -35,6 +35,10 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->bridge_lost_frac = TV_R(0.25);
     cfg->supply_low_V = TV_R(11.5);
     cfg->supply_hyst_V = TV_R(0.5);
+    cfg->isens_zero_max_A = TV_R(0.02);
+    cfg->isens_bias_max_A = TV_R(0.035);
+    cfg->isens_i_max_A = TV_R(0.3);
+    cfg->isens_vif_max = TV_R(4.0);
 }
 
 int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
@@ -48,7 +52,9 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->r_high_frac,      cfg->r_low_frac,    cfg->r_sigma_max_frac,
                                  cfg->r_excite_A,       cfg->friction_high_rel, cfg->friction_sigma_max,
                                  cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
-                                 cfg->bridge_lost_frac, cfg->supply_low_V,      cfg->supply_hyst_V};
+                                 cfg->bridge_lost_frac, cfg->supply_low_V,      cfg->supply_hyst_V,
+                                 cfg->isens_zero_max_A, cfg->isens_bias_max_A,  cfg->isens_vif_max,
+                                 cfg->isens_i_max_A};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -61,7 +67,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     }
     if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0)) ||
         !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0)) ||
-        !(cfg->bridge_lost_frac < TV_R(1.0))) {
+        !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0))) {
         return TV_ERR_CONFIG;
     }
     memset(dd, 0, sizeof *dd);
@@ -329,5 +335,112 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
     if (TV_IS_FINITE(preload_rel) && TV_IS_FINITE(preload_sigma) && preload_sigma > TV_R(0.0) &&
         preload_sigma <= dd->cfg.preload_sigma_max) {
         (void)diag_report(d, DIAG_DTC_P1A02, preload_rel < dd->cfg.preload_low_rel ? DIAG_FAIL : DIAG_PASS, snap, preload_rel);
+    }
+}
+
+/* The in-service window's verdict: the intercept of y = b + ki i + kw w by least squares, from
+ * the centred sums (the slopes by the 2x2 normal equations, then b = mean(y) - ki mean(i) - kw
+ * mean(w)); its variance is sigma^2 / n (1 + m' C^-1 m) with m the regressors' means and C their
+ * covariance: above isens_vif_max the window is not judged. */
+static diag_result_t isens_window(const diag_detect_t *dd, tv_real_t *bias)
+{
+    const tv_real_t *s = dd->isens_s;
+    const tv_real_t inv_n = TV_R(1.0) / (tv_real_t)dd->isens_n;
+    const tv_real_t mi = s[0] * inv_n;
+    const tv_real_t mw = s[1] * inv_n;
+    const tv_real_t cii = s[2] * inv_n - mi * mi;
+    const tv_real_t ciw = s[3] * inv_n - mi * mw;
+    const tv_real_t cww = s[4] * inv_n - mw * mw;
+    const tv_real_t my = s[5] * inv_n;
+    const tv_real_t ciy = s[6] * inv_n - mi * my;
+    const tv_real_t cwy = s[7] * inv_n - mw * my;
+    const tv_real_t det = cii * cww - ciw * ciw;
+    tv_real_t ki;
+    tv_real_t kw;
+    tv_real_t vif;
+    /* det > 0 with a margin against rounding: a (near-)constant regressor leaves it ~0 */
+    if (!(det > TV_R(1e-6) * (cii * cww)) || !(cii > TV_R(0.0)) || !(cww > TV_R(0.0))) {
+        return DIAG_NOT_RUN;
+    }
+    vif = TV_R(1.0) + (cww * mi * mi - TV_R(2.0) * ciw * mi * mw + cii * mw * mw) / det;
+    if (!(vif <= dd->cfg.isens_vif_max)) {
+        return DIAG_NOT_RUN;
+    }
+    ki = (cww * ciy - ciw * cwy) / det;
+    kw = (cii * cwy - ciw * ciy) / det;
+    *bias = my - ki * mi - kw * mw;
+    if (!TV_IS_FINITE(*bias)) {
+        return DIAG_NOT_RUN;
+    }
+    return TV_FABS(*bias) > dd->cfg.isens_bias_max_A ? DIAG_FAIL : DIAG_PASS;
+}
+
+void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int current_ok, int innov_ok,
+                               tv_real_t current_A, tv_real_t innov_A, tv_real_t w_rad_s, const diag_snapshot_t *snap)
+{
+    tv_real_t i_pred;
+    if (dd == NULL || d == NULL || snap == NULL) {
+        return;
+    }
+    /* consecutive periods off / driving */
+    if (bridge_on) {
+        dd->isens_off = 0u;
+        if (dd->isens_on < DIAG_ISENS_SETTLE) {
+            ++dd->isens_on;
+        }
+    } else {
+        dd->isens_on = 0u;
+        if (dd->isens_off < DIAG_ISENS_SETTLE) {
+            ++dd->isens_off;
+        }
+    }
+    if (!current_ok || !TV_IS_FINITE(current_A)) {
+        dd->isens_n = 0u;
+        return;
+    }
+    if (dd->isens_off >= DIAG_ISENS_SETTLE) {
+        /* zero check: the bridge is off, the current must read 0 */
+        dd->isens_n = 0u;
+        dd->isens_zsum += current_A;
+        if (++dd->isens_zn >= DIAG_ISENS_ZERO_N) {
+            const tv_real_t mean = dd->isens_zsum / (tv_real_t)DIAG_ISENS_ZERO_N;
+            (void)diag_report(d, DIAG_DTC_P1A04, TV_FABS(mean) > dd->cfg.isens_zero_max_A ? DIAG_FAIL : DIAG_PASS, snap,
+                              mean);
+            dd->isens_zn = 0u;
+            dd->isens_zsum = TV_R(0.0);
+        }
+        return;
+    }
+    if (!innov_ok || dd->isens_on < DIAG_ISENS_SETTLE || !TV_IS_FINITE(innov_A) || !TV_IS_FINITE(w_rad_s)) {
+        dd->isens_n = 0u;
+        return;
+    }
+    /* the regressor is the PREDICTED current (measured minus innovation): the measured one
+     * carries the noise that is also in y, which would bias the slope toward 0 and, selected
+     * by a band, the mean of y */
+    i_pred = current_A - innov_A;
+    if (TV_FABS(i_pred) > dd->cfg.isens_i_max_A) {
+        return; /* outside the band: not counted, the window goes on */
+    }
+    /* in-service window: the sums of the regression of y on (1, i, w) */
+    if (dd->isens_n == 0u) {
+        memset(dd->isens_s, 0, sizeof dd->isens_s);
+    }
+    {
+        tv_real_t *s = dd->isens_s;
+        s[0] += i_pred;
+        s[1] += w_rad_s;
+        s[2] += i_pred * i_pred;
+        s[3] += i_pred * w_rad_s;
+        s[4] += w_rad_s * w_rad_s;
+        s[5] += innov_A;
+        s[6] += i_pred * innov_A;
+        s[7] += w_rad_s * innov_A;
+    }
+    if (++dd->isens_n >= DIAG_ISENS_WIN) {
+        tv_real_t bias = TV_R(0.0);
+        const diag_result_t r = isens_window(dd, &bias);
+        (void)diag_report(d, DIAG_DTC_P1A04, r, snap, bias);
+        dd->isens_n = 0u;
     }
 }

@@ -77,6 +77,30 @@
  *     passed check. A steady low track confirms at the code's count (ms); sporadic dropouts add
  *     up as long as most windows hold one (the 1 kHz leaky counter alone would leak a 10 %
  *     dropout rate away: 9 passes per failure).
+ *   CURRENT SENSOR (P1A04), an offset of the current measurement, by two checks that report to
+ *     the one code (each check is one window):
+ *     ZERO CHECK: while the bridge is off (since at least DIAG_ISENS_SETTLE periods: the winding
+ *       current has decayed through the body diodes well within one), the measured current must
+ *       read 0; the mean of DIAG_ISENS_ZERO_N such samples above isens_zero_max_A in magnitude
+ *       fails, else passes (value: the mean [A]).
+ *     IN-SERVICE BIAS: while the bridge drives (since at least DIAG_ISENS_SETTLE periods), the
+ *       model is the one in service (not during stop learning) and the estimator corrected with
+ *       the current, the samples whose predicted |current| i is at most isens_i_max_A (samples
+ *       above it are skipped, the window goes on) have their current innovation y (measured minus
+ *       predicted) regressed on (1, i, w) over DIAG_ISENS_WIN such samples (i is the PREDICTED
+ *       current, measured minus innovation: the measured one carries the noise that is also in
+ *       y, which would bias the slope and, selected by the band, the mean of y; w the estimated
+ *       velocity at the period's start). A sensor offset b adds b to y
+ *       whatever the current's sign; a resistance error (and a current-gain error, which looks
+ *       like one) adds a term proportional to i, a back-EMF constant error one proportional to w:
+ *       the intercept separates the offset from the healthy units' spread in R and Kt/Ke. The
+ *       window's intercept above isens_bias_max_A in magnitude fails, else passes (value: the
+ *       intercept [A]); a window whose intercept is ill-determined (variance inflation
+ *       1 + m' C^-1 m above isens_vif_max, m the regressors' means and C their covariance: one
+ *       current sign, one speed) is not judged. A sample that does not qualify (bridge off, not
+ *       settled, no correction, implausible) restarts the window.
+ *     A current-gain error is not detected: it is a scaled R in the voltage equation and a scaled
+ *     Kt in the mechanics, both inside the population's spread (README).
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -104,6 +128,14 @@ extern "C" {
 /** The track low-circuit check's window (500 ms, a multiple of DIAG_SUPPLY_DECIM): a window without
  *  a low sample gives the track's code one passed check. */
 #define DIAG_TPS_CLEAN_WINDOW 500u
+/** Current-sensor check: periods the bridge must have been off (or driving) before a sample counts. */
+#define DIAG_ISENS_SETTLE 2u
+/** Current-sensor zero check: samples at rest per check (32 ms at 1 kHz). */
+#define DIAG_ISENS_ZERO_N 32u
+/** Current-sensor in-service check: driven samples in the band per window. */
+#ifndef DIAG_ISENS_WIN
+#define DIAG_ISENS_WIN 500u
+#endif
 
 /** Detector thresholds (diag_detect_config_default()). */
 typedef struct {
@@ -137,6 +169,18 @@ typedef struct {
     tv_real_t supply_low_V;       /**< measured supply below this fails P0562 [V], > 0; default 11.5 (healthy
                                        units measure 12.4 V and more: 13.5 +- 1 V, divider +-1 %) */
     tv_real_t supply_hyst_V;      /**< ... and passes from supply_low_V + this [V], > 0; default 0.5 */
+    tv_real_t isens_zero_max_A;   /**< |mean current| with the bridge off above which P1A04 fails [A], > 0;
+                                       default 0.02 (the mean of 32 samples of a healthy sensor: noise
+                                       10 mA and 8-11 mA counts, sigma about 2 mA) */
+    tv_real_t isens_bias_max_A;   /**< |intercept| of the in-service window above which P1A04 fails [A], > 0;
+                                       default 0.035 (README: healthy population) */
+    tv_real_t isens_vif_max;      /**< the window is judged while its intercept's variance inflation is
+                                       at most this [-], >= 1; default 4 (with 20, a healthy unit whose
+                                       small currents came at one high speed had its back-EMF error
+                                       extrapolated into the intercept: README) */
+    tv_real_t isens_i_max_A;      /**< the window takes the driven samples whose predicted |current| is at
+                                       most this [A], > 0; default 0.3 (where a resistance error, however
+                                       adapted, can add little: README) */
 } diag_detect_config_t;
 
 /** Detector state. Allocate statically; diag_detect_init() before use. */
@@ -156,6 +200,12 @@ typedef struct {
     tv_real_t i_prev_A;    /**< the current measured at the last call of diag_open_check() (0 when not active) */
     int8_t dead_dir;       /**< the drive direction suspected lost (+1, -1; 0: none) */
     uint8_t probe_req;     /**< 1: a reverse pulse against dead_dir is asked for (diag_probe_direction()) */
+    uint8_t isens_off;     /**< consecutive bridge-off periods, saturating at DIAG_ISENS_SETTLE */
+    uint8_t isens_on;      /**< consecutive driven periods, saturating at DIAG_ISENS_SETTLE */
+    uint16_t isens_zn;     /**< samples in the zero check's sum */
+    uint16_t isens_n;      /**< samples in the in-service window */
+    tv_real_t isens_zsum;  /**< sum of the measured current at rest [A] */
+    tv_real_t isens_s[8];  /**< the window's sums: i, w, i i, i w, w w, y, i y, w y */
 } diag_detect_t;
 
 /** Defaults (see diag_detect_config_t). Does nothing when cfg is NULL. */
@@ -269,6 +319,21 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
  */
 void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_s, tv_real_t friction_rel,
                       tv_real_t friction_sigma, tv_real_t preload_rel, tv_real_t preload_sigma, const diag_snapshot_t *snap);
+
+/**
+ * The current-sensor checks (see the file comment); report P1A04. Call once per step.
+ * @param bridge_on   1 when the bridge drove the period that just ended, 0 when it was off
+ * @param current_ok  1 when the current sample is plausible; 0: neither check uses this sample
+ *                    (the in-service window restarts)
+ * @param innov_ok    1 when the estimator ran and corrected with this current sample (innov_A is
+ *                    its innovation); 0: the in-service window restarts
+ * @param current_A   the measured current [A]
+ * @param innov_A     the estimator's current innovation of this sample [A] (in-service check)
+ * @param w_rad_s     the estimated velocity at the start of the period [rad/s]
+ * @param snap        the step's snapshot (value in the freeze frame: the offending mean or intercept [A])
+ */
+void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int current_ok, int innov_ok,
+                               tv_real_t current_A, tv_real_t innov_A, tv_real_t w_rad_s, const diag_snapshot_t *snap);
 
 #ifdef __cplusplus
 }
