@@ -65,6 +65,10 @@ extern "C" {
 /** The adapted-mechanics check runs every this many calls of diag_param_check() (10 ms at 1 kHz). */
 #define DIAG_PARAM_DECIM 10u
 
+/** The torque signature is judged only when it was fed within this many steps (a stale
+ *  signature, e.g. of the instant a plate was blocked, judges nothing). */
+#define DIAG_TORQUE_FRESH 60u
+
 /** Detector thresholds (diag_detect_config_default()). */
 typedef struct {
     tv_real_t tps_disagree_rad; /**< track disagreement that calls the vote [rad], > 0; default 0.005
@@ -92,6 +96,40 @@ typedef struct {
     tv_real_t preload_sigma_max;  /**< the preload check runs while sigma(m) <= this [-], > 0; default 0.03 */
     tv_real_t param_excite_rad_s; /**< ... and both only while the estimated |velocity| is at least this
                                        [rad/s], > 0; default 0.5 (the estimator's own f / m update threshold) */
+    tv_real_t torque_tau_samples; /**< TORQUE SIGNATURE: forgetting time of the regression [fed samples], >= 10;
+                                       default 100 */
+    tv_real_t torque_min_weight;  /**< the signature is judged once its weight (decayed sample count) is at
+                                       least this [samples], > 0; default 60 */
+    tv_real_t torque_corr_max;    /**< ... and the two regressors' correlation |rho| at most this [-], (0, 1);
+                                       default 0.9 (collinear data cannot tell spring from friction) */
+    tv_real_t torque_clip_Nm;     /**< a sample whose unexplained torque exceeds +- this is not fed [N m], > 0;
+                                       default 0.6 (a spring's whole torque is about 0.35 N m; a jam's or a
+                                       lost drive's is larger) */
+    tv_real_t torque_w_min_rad_s; /**< a sample is fed only while the estimated |velocity| is at least this
+                                       [rad/s], > 0; default 1 (the Stribeck branch, which the units' spread
+                                       changes most, stays out) */
+    tv_real_t torque_move_min_rad; /**< ... and the estimated angle moved at least this over the last
+                                       DIAG_JAM_WINDOW samples [rad], > 0; default 0.004 (a blocked plate
+                                       whose one-step velocity estimate is kicked by the drive is no sliding
+                                       plate) */
+    tv_real_t torque_accel_max_Nm; /**< ... and the model's predicted net torque J dw/dt is at most this in
+                                       magnitude [N m], > 0; default 0.3 (an inertia, torque-constant or
+                                       resistance error of the unit shows in the fast transients) */
+    tv_real_t preload_fast_low;   /**< the signature's preload (1 + m)(1 - a) below this fails P1A02 [-], (0, 1);
+                                       default 0.5 */
+    tv_real_t friction_fast_high; /**< the signature's friction (1 + f)(1 + e) above this fails P2119 [-], > 1;
+                                       default 1.5 */
+    tv_real_t friction_fast_preload_min; /**< ... while the same signature's preload is at least this [-], > 0;
+                                       default 0.75 (a broken spring seen in closing motion alone looks like
+                                       friction) */
+    tv_real_t friction_fast_level_min; /**< ... and the estimator's own level 1 + f at least this [-], > 0;
+                                       default 1.3 (it follows a real change within about a second; a
+                                       healthy unit whose viscous or Stribeck friction differs from the
+                                       model's reads a high signature at speed while 1 + f stays near 1.2:
+                                       measured, class b unit 1010 of all_varied in chirp and the 12 V sine) */
+    uint16_t param_slow_hold;     /**< the adapted levels (1 + f, 1 + m) fail only once beyond their bounds for
+                                       this many checks in a row [checks], > 0; default 95 (with the codes'
+                                       confirmation counts about the former 100 checks = 1 s of motion) */
 } diag_detect_config_t;
 
 /** Detector state. Allocate statically; diag_detect_init() before use. */
@@ -102,6 +140,18 @@ typedef struct {
     uint8_t hist_i;        /**< next slot of phi_hist */
     uint8_t tps_named;     /**< 0: no track named; 1 or 2: the track the vote named (kept out) */
     uint8_t param_tick;    /**< calls of diag_param_check() since its last check, 0..DIAG_PARAM_DECIM - 1 */
+    tv_real_t tq_lam;      /**< forgetting factor per fed sample, 1 - 1 / torque_tau_samples */
+    tv_real_t tq_w;        /**< weight: decayed count of fed samples */
+    tv_real_t tq_ss;       /**< decayed sums: spring regressor squared, */
+    tv_real_t tq_sf;       /**<   spring x friction regressor, */
+    tv_real_t tq_ff;       /**<   friction regressor squared, */
+    tv_real_t tq_sy;       /**<   spring regressor x unexplained torque, */
+    tv_real_t tq_fy;       /**<   friction regressor x unexplained torque */
+    tv_real_t preload_fast;  /**< the last judged signature's preload (1 + m)(1 - a) [-] (0: none yet) */
+    tv_real_t friction_fast; /**< the last judged signature's friction (1 + f)(1 + e) [-] (0: none yet) */
+    uint16_t tq_age;       /**< diag_param_check() calls since the signature was last fed (saturating) */
+    uint16_t slow_f_run;   /**< consecutive checks with 1 + f above friction_high_rel */
+    uint16_t slow_m_run;   /**< consecutive checks with 1 + m below preload_low_rel */
 } diag_detect_t;
 
 /** Defaults (see diag_detect_config_t). Does nothing when cfg is NULL. */
@@ -184,6 +234,22 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
  */
 void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_s, tv_real_t friction_rel,
                       tv_real_t friction_sigma, tv_real_t preload_rel, tv_real_t preload_sigma, const diag_snapshot_t *snap);
+
+/**
+ * Feed one sample to the torque signature (see the file comment), once per step before
+ * diag_param_check(). Nothing happens (no decay either) when active is 0, an argument is not
+ * finite, |w_rad_s| < torque_w_min_rad_s or |accel_Nm| > torque_accel_max_Nm.
+ * @param active       1 when torque_Nm is of this sample: the estimator predicted one period and
+ *                     corrected with the angle, the model is the one in service, the plate is away
+ *                     from both stops and from limp-home (the caller's margins)
+ * @param w_rad_s      the estimated velocity [rad/s]
+ * @param torque_Nm    the torque the model did not explain: J (w corrected - w predicted) / Ts [N m]
+ * @param accel_Nm     the model's net torque over the period: J (w predicted - w previous) / Ts [N m]
+ * @param spring_Nm    the model's spring torque at the angle, M0 (1 + m) sp(phi) + c phi [N m]
+ * @param friction_Nm  the model's sliding friction level at the velocity, (1 + f) g(w) > 0 [N m]
+ */
+void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
+                      tv_real_t spring_Nm, tv_real_t friction_Nm);
 
 #ifdef __cplusplus
 }
