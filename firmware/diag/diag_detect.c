@@ -45,6 +45,16 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->param_slow_hold = 95u;
 }
 
+void diag_detect_config_identified(diag_detect_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return;
+    }
+    cfg->friction_fast_high = TV_R(1.15);
+    cfg->friction_fast_level_min = TV_R(1.1);
+    cfg->preload_fast_low = TV_R(0.7);
+}
+
 int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
 {
     if (dd == NULL || cfg == NULL) {

@@ -158,6 +158,16 @@ typedef struct {
 void diag_detect_config_default(diag_detect_config_t *cfg);
 
 /**
+ * The bounds for a filter whose model is the unit's own (identified: `identify` parameter file,
+ * or an end-of-line identification), on top of diag_detect_config_default(): the unit's healthy
+ * friction and preload are then the model's (1 +- the estimation error, not +-30 %), so the
+ * torque signature may judge a change relative to them: friction_fast_high 1.15 with
+ * friction_fast_level_min 1.1 (friction +25 % is seen), preload_fast_low 0.7 (a spring at 50 %
+ * is seen). Does nothing when cfg is NULL.
+ */
+void diag_detect_config_identified(diag_detect_config_t *cfg);
+
+/**
  * Validate and start (no history, no track named).
  * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE; TV_ERR_CONFIG (a threshold out of its range).
  */
