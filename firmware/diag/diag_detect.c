@@ -41,6 +41,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->preload_fast_low = TV_R(0.5);
     cfg->friction_fast_high = TV_R(1.5);
     cfg->friction_fast_level_min = TV_R(1.3);
+    cfg->preload_fast_friction_max = TV_R(2.0);
     cfg->friction_fast_preload_min = TV_R(0.75);
     cfg->param_slow_hold = 95u;
 }
@@ -53,6 +54,7 @@ void diag_detect_config_identified(diag_detect_config_t *cfg)
     cfg->friction_fast_high = TV_R(1.15);
     cfg->friction_fast_level_min = TV_R(1.1);
     cfg->preload_fast_low = TV_R(0.7);
+    cfg->preload_fast_friction_max = TV_R(1.3);
 }
 
 int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
@@ -69,7 +71,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->torque_tau_samples, cfg->torque_min_weight, cfg->torque_corr_max,
                                  cfg->torque_clip_Nm,   cfg->torque_w_min_rad_s, cfg->torque_move_min_rad, cfg->torque_accel_max_Nm,
                                  cfg->preload_fast_low, cfg->friction_fast_high, cfg->friction_fast_preload_min,
-                                 cfg->friction_fast_level_min};
+                                 cfg->friction_fast_level_min, cfg->preload_fast_friction_max};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -332,7 +334,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         if (slow) {
             dd->slow_m_run = preload_rel < dd->cfg.preload_low_rel ? (uint16_t)(dd->slow_m_run + (dd->slow_m_run < 0xFFFFu ? 1u : 0u)) : 0u;
         }
-        if (fast && pf < dd->cfg.preload_fast_low) {
+        if (fast && pf < dd->cfg.preload_fast_low && ff <= dd->cfg.preload_fast_friction_max) {
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, pf);
         } else if (slow && dd->slow_m_run >= dd->cfg.param_slow_hold) {
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, preload_rel);

@@ -117,6 +117,9 @@ typedef struct {
                                        resistance error of the unit shows in the fast transients) */
     tv_real_t preload_fast_low;   /**< the signature's preload (1 + m)(1 - a) below this fails P1A02 [-], (0, 1);
                                        default 0.5 */
+    tv_real_t preload_fast_friction_max; /**< ... while the same signature's friction is at most this [-], > 0;
+                                       default 2.0 (1.3 in diag_detect_config_identified(): friction x2 seen in
+                                       closing motion alone looks like a weak spring) */
     tv_real_t friction_fast_high; /**< the signature's friction (1 + f)(1 + e) above this fails P2119 [-], > 1;
                                        default 1.5 */
     tv_real_t friction_fast_preload_min; /**< ... while the same signature's preload is at least this [-], > 0;
@@ -163,7 +166,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg);
  * friction and preload are then the model's (1 +- the estimation error, not +-30 %), so the
  * torque signature may judge a change relative to them: friction_fast_high 1.15 with
  * friction_fast_level_min 1.1 (friction +25 % is seen), preload_fast_low 0.7 (a spring at 50 %
- * is seen). Does nothing when cfg is NULL.
+ * is seen) with preload_fast_friction_max 1.3. Does nothing when cfg is NULL.
  */
 void diag_detect_config_identified(diag_detect_config_t *cfg);
 
