@@ -16,9 +16,8 @@
  * move after a max-slew step), P2100 5 ms (inside the 10 ms open-winding target), P2101 / P1A01
  * 200 ms (the estimated resistance is a slow, filtered quantity). Healing: 1 s of consecutive
  * passes. P2119 / P1A02 are checked every DIAG_PARAM_DECIM steps (10 ms, diag_detect.h) and
- * only while the plate moves: their counts are checks. They confirm after 20 / 5 failed checks
- * (200 / 50 ms of motion; P2119's 20: a healthy all_varied unit, 1002, read a friction signature
- * just above its bound for 11 checks in chirp): the torque signature behind them is already an average over some 50
+ * only while the plate moves: their counts are checks. They confirm after 10 / 5 failed checks
+ * (100 / 50 ms of motion): the torque signature behind them is already an average over some 50
  * fed samples, and the slowly adapted levels fail only after param_slow_hold checks in a row
  * (diag_detect.h); 100 passed checks heal. */
 static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
@@ -39,7 +38,7 @@ static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
     {"P1A01", "winding_short", "winding resistance below its range (shorted turns suspected; project code)", 200u, 1000u,
      DIAG_ACTION_LIMITED},
     {"P2119", "friction_high", "throttle actuator control throttle body range/performance (friction level above its range)",
-     20u, 100u, DIAG_ACTION_NONE},
+     10u, 100u, DIAG_ACTION_NONE},
     {"P1A02", "spring_weak", "return-spring preload below its range (limp-home position not assured; project code)", 5u, 100u,
      DIAG_ACTION_LIMITED},
 };

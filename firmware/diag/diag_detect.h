@@ -121,7 +121,8 @@ typedef struct {
                                        default 2.0 (1.3 in diag_detect_config_identified(): friction x2 seen in
                                        closing motion alone looks like a weak spring) */
     tv_real_t friction_fast_high; /**< the signature's friction (1 + f)(1 + e) above this fails P2119 [-], > 1;
-                                       default 1.5 */
+                                       default 1.6 (with 1.5 a healthy all_varied unit, 1002, whose estimator
+                                       reads 1 + f = 1.41-1.45, confirmed P2119 in chirp at 1.53-1.55) */
     tv_real_t friction_fast_preload_min; /**< ... while the same signature's preload is at least this [-], > 0;
                                        default 0.75 (a broken spring seen in closing motion alone looks like
                                        friction) */
