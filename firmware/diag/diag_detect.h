@@ -43,7 +43,20 @@
  *     while sigma(f) <= friction_sigma_max, above friction_high_rel fails P2119, else passes.
  *     Preload: while sigma(m) <= preload_sigma_max, below preload_low_rel fails P1A02, else passes.
  *     The bounds lie outside the healthy population (friction +-30 %, preload +-20 % around the
- *     class nominal, plant_draw.h) with the estimation error measured on it (README).
+ *     class nominal, plant_draw.h) with the estimation error measured on it (README). Since the
+ *     levels move over seconds, a level beyond its bound fails only after param_slow_hold checks
+ *     in a row.
+ *   TORQUE SIGNATURE (behind the same two codes, fast): diag_torque_feed() regresses the torque
+ *     the model did not explain in each sample (the estimator's velocity correction x J / Ts) on
+ *     the model's spring torque and on its friction torque opposing the motion, with exponential
+ *     forgetting (torque_tau_samples), fed only while the plate slides (see its conditions). At
+ *     each check the 2x2 solve gives a spring deficit a and a friction excess e, i.e. a preload
+ *     (1 + m)(1 - a) and a friction (1 + f)(1 + e): below preload_fast_low fails P1A02 (while the
+ *     signature's friction is at most preload_fast_friction_max), above friction_fast_high fails
+ *     P2119 (while its preload is at least friction_fast_preload_min and 1 + f at least
+ *     friction_fast_level_min). Judged only when fed within DIAG_TORQUE_FRESH steps, with enough
+ *     weight, non-collinear regressors (torque_corr_max), small sigmas of f and m, and no
+ *     motor-circuit or jam code (P2100, P2101, P1A01, P2111, P2112) pending or confirmed.
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
