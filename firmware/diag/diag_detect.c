@@ -39,10 +39,10 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->torque_move_min_rad = TV_R(0.004);
     cfg->torque_accel_max_Nm = TV_R(0.3);
     cfg->preload_fast_low = TV_R(0.5);
-    cfg->friction_fast_high = TV_R(1.6);
+    cfg->friction_fast_high = TV_R(1.7);
     cfg->friction_fast_level_min = TV_R(1.3);
     cfg->preload_fast_friction_max = TV_R(2.0);
-    cfg->friction_fast_preload_min = TV_R(0.75);
+    cfg->friction_fast_preload_min = TV_R(0.8);
     cfg->param_slow_hold = 95u;
 }
 
