@@ -39,6 +39,30 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->isens_bias_max_A = TV_R(0.035);
     cfg->isens_i_max_A = TV_R(0.3);
     cfg->isens_vif_max = TV_R(4.0);
+    cfg->torque_tau_samples = TV_R(50.0);
+    cfg->torque_min_weight = TV_R(30.0);
+    cfg->torque_corr_max = TV_R(0.9);
+    cfg->torque_clip_Nm = TV_R(0.6);
+    cfg->torque_w_min_rad_s = TV_R(1.0);
+    cfg->torque_move_min_rad = TV_R(0.004);
+    cfg->torque_accel_max_Nm = TV_R(0.3);
+    cfg->preload_fast_low = TV_R(0.5);
+    cfg->friction_fast_high = TV_R(1.7);
+    cfg->friction_fast_level_min = TV_R(1.3);
+    cfg->preload_fast_friction_max = TV_R(2.0);
+    cfg->friction_fast_preload_min = TV_R(0.8);
+    cfg->param_slow_hold = 95u;
+}
+
+void diag_detect_config_identified(diag_detect_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return;
+    }
+    cfg->friction_fast_high = TV_R(1.15);
+    cfg->friction_fast_level_min = TV_R(1.1);
+    cfg->preload_fast_low = TV_R(0.7);
+    cfg->preload_fast_friction_max = TV_R(1.3);
 }
 
 int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
@@ -54,7 +78,11 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
                                  cfg->bridge_lost_frac, cfg->supply_low_V,      cfg->supply_hyst_V,
                                  cfg->isens_zero_max_A, cfg->isens_bias_max_A,  cfg->isens_vif_max,
-                                 cfg->isens_i_max_A};
+                                 cfg->isens_i_max_A,
+                                 cfg->torque_tau_samples, cfg->torque_min_weight, cfg->torque_corr_max,
+                                 cfg->torque_clip_Nm,   cfg->torque_w_min_rad_s, cfg->torque_move_min_rad, cfg->torque_accel_max_Nm,
+                                 cfg->preload_fast_low, cfg->friction_fast_high, cfg->friction_fast_preload_min,
+                                 cfg->friction_fast_level_min, cfg->preload_fast_friction_max};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -67,11 +95,16 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     }
     if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0)) ||
         !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0)) ||
-        !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0))) {
+        !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) ||
+        cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
+        !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u) {
         return TV_ERR_CONFIG;
     }
     memset(dd, 0, sizeof *dd);
     dd->cfg = *cfg;
+    dd->tq_lam = TV_R(1.0) - TV_R(1.0) / cfg->torque_tau_samples;
+
+
     return TV_OK;
 }
 
@@ -314,27 +347,138 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
     (void)diag_report(d, DIAG_DTC_P1A01, ratio < dd->cfg.r_low_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
 }
 
+void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
+                      tv_real_t spring_Nm, tv_real_t friction_Nm)
+{
+    tv_real_t y;
+    tv_real_t xf;
+    tv_real_t lam;
+    if (dd == NULL || !active || !TV_IS_FINITE(w_rad_s) || !TV_IS_FINITE(torque_Nm) || !TV_IS_FINITE(accel_Nm) ||
+        !TV_IS_FINITE(spring_Nm) || !TV_IS_FINITE(friction_Nm) || TV_FABS(w_rad_s) < dd->cfg.torque_w_min_rad_s ||
+        TV_FABS(accel_Nm) > dd->cfg.torque_accel_max_Nm) {
+        return;
+    }
+    if (TV_FABS(torque_Nm) > dd->cfg.torque_clip_Nm || dd->hist_n < DIAG_JAM_WINDOW) {
+        return;
+    }
+    {
+        /* the plate really moves: the estimated angle over the jam check's window (the newest
+         * entry is this step's, diag_jam_check() runs first) */
+        const tv_real_t newest = dd->phi_hist[(dd->hist_i + DIAG_JAM_WINDOW - 1u) % DIAG_JAM_WINDOW];
+        if (TV_FABS(newest - dd->phi_hist[dd->hist_i]) < dd->cfg.torque_move_min_rad) {
+            return;
+        }
+    }
+    y = torque_Nm;
+    dd->tq_age = 0u;
+    /* the friction regressor: the model's friction torque, opposing the motion */
+    xf = w_rad_s > TV_R(0.0) ? -friction_Nm : friction_Nm;
+    lam = dd->tq_lam;
+    dd->tq_w = lam * dd->tq_w + TV_R(1.0);
+    dd->tq_ss = lam * dd->tq_ss + spring_Nm * spring_Nm;
+    dd->tq_sf = lam * dd->tq_sf + spring_Nm * xf;
+    dd->tq_ff = lam * dd->tq_ff + xf * xf;
+    dd->tq_sy = lam * dd->tq_sy + spring_Nm * y;
+    dd->tq_fy = lam * dd->tq_fy + xf * y;
+}
+
+/* The torque signature (file comment): solves the 2x2 normal equations of the decayed sums for
+ * the spring deficit a and the friction excess e. 1 when judged (enough weight, regressors not
+ * collinear), with *preload = (1 + m)(1 - a) and *friction = (1 + f)(1 + e). */
+static int torque_signature(const diag_detect_t *dd, tv_real_t preload_rel, tv_real_t friction_rel, tv_real_t *preload,
+                            tv_real_t *friction)
+{
+    const tv_real_t ss = dd->tq_ss;
+    const tv_real_t ff = dd->tq_ff;
+    const tv_real_t sf = dd->tq_sf;
+    const tv_real_t pp = ss * ff;
+    const tv_real_t det = pp - sf * sf;
+    const tv_real_t rmax = dd->cfg.torque_corr_max;
+    if (dd->tq_w < dd->cfg.torque_min_weight || !(pp > TV_R(0.0)) || !(det > (TV_R(1.0) - rmax * rmax) * pp)) {
+        return 0;
+    }
+    *preload = preload_rel * (TV_R(1.0) - (ff * dd->tq_sy - sf * dd->tq_fy) / det);
+    *friction = friction_rel * (TV_R(1.0) + (ss * dd->tq_fy - sf * dd->tq_sy) / det);
+    return TV_IS_FINITE(*preload) && TV_IS_FINITE(*friction);
+}
+
+/* 1 when a code whose fault also leaves torque unexplained (motor circuit: P2100, P2101, P1A01;
+ * jam: P2111, P2112) is pending or confirmed: the mechanics are then not judged (isolation). */
+static int mechanics_inhibited(const diag_t *d)
+{
+    static const diag_dtc_t related[] = {DIAG_DTC_P2100, DIAG_DTC_P2101, DIAG_DTC_P1A01, DIAG_DTC_P2111, DIAG_DTC_P2112};
+    size_t k;
+    for (k = 0; k < sizeof related / sizeof related[0]; ++k) {
+        const diag_code_state_t *c = &d->code[related[k]];
+        if (c->counter > 0u || c->confirmed) {
+            return 1;
+        }
+    }
+    return 0;
+}
+
 void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_s, tv_real_t friction_rel,
                       tv_real_t friction_sigma, tv_real_t preload_rel, tv_real_t preload_sigma, const diag_snapshot_t *snap)
 {
+    tv_real_t pf = TV_R(0.0);
+    tv_real_t ff = TV_R(0.0);
+    int fast;
     if (dd == NULL || d == NULL || snap == NULL) {
         return;
+    }
+    if (dd->tq_age < 0xFFFFu) {
+        ++dd->tq_age;
     }
     if (++dd->param_tick < DIAG_PARAM_DECIM) {
         return;
     }
     dd->param_tick = 0u;
-    if (!active || !TV_IS_FINITE(w_rad_s) || TV_FABS(w_rad_s) < dd->cfg.param_excite_rad_s) {
+    if (!active || !TV_IS_FINITE(w_rad_s) || TV_FABS(w_rad_s) < dd->cfg.param_excite_rad_s ||
+        !TV_IS_FINITE(friction_rel) || !TV_IS_FINITE(preload_rel) || mechanics_inhibited(d)) {
         return;
     }
-    if (TV_IS_FINITE(friction_rel) && TV_IS_FINITE(friction_sigma) && friction_sigma > TV_R(0.0) &&
-        friction_sigma <= dd->cfg.friction_sigma_max) {
-        (void)diag_report(d, DIAG_DTC_P2119, friction_rel > dd->cfg.friction_high_rel ? DIAG_FAIL : DIAG_PASS, snap,
-                          friction_rel);
+    fast = dd->tq_age <= DIAG_TORQUE_FRESH && TV_IS_FINITE(friction_sigma) &&
+           friction_sigma <= dd->cfg.friction_sigma_max && TV_IS_FINITE(preload_sigma) &&
+           preload_sigma <= dd->cfg.preload_sigma_max && torque_signature(dd, preload_rel, friction_rel, &pf, &ff);
+    if (fast) {
+        dd->preload_fast = pf;
+        dd->friction_fast = ff;
     }
-    if (TV_IS_FINITE(preload_rel) && TV_IS_FINITE(preload_sigma) && preload_sigma > TV_R(0.0) &&
-        preload_sigma <= dd->cfg.preload_sigma_max) {
-        (void)diag_report(d, DIAG_DTC_P1A02, preload_rel < dd->cfg.preload_low_rel ? DIAG_FAIL : DIAG_PASS, snap, preload_rel);
+    {
+        /* friction: the signature above its bound with the preload of the same signature in range
+         * (a broken spring looks like friction in a window of closing motion), or the slowly
+         * adapted level above its bound for param_slow_hold checks in a row */
+        const int slow = TV_IS_FINITE(friction_sigma) && friction_sigma > TV_R(0.0) && friction_sigma <= dd->cfg.friction_sigma_max;
+        if (slow) {
+            dd->slow_f_run = friction_rel > dd->cfg.friction_high_rel ? (uint16_t)(dd->slow_f_run + (dd->slow_f_run < 0xFFFFu ? 1u : 0u)) : 0u;
+        }
+        if (fast && ff > dd->cfg.friction_fast_high && pf >= dd->cfg.friction_fast_preload_min &&
+            friction_rel >= dd->cfg.friction_fast_level_min) {
+            (void)diag_report(d, DIAG_DTC_P2119, DIAG_FAIL, snap, ff);
+        } else if (slow && dd->slow_f_run >= dd->cfg.param_slow_hold) {
+            (void)diag_report(d, DIAG_DTC_P2119, DIAG_FAIL, snap, friction_rel);
+        } else if (slow && friction_rel <= dd->cfg.friction_high_rel) {
+            (void)diag_report(d, DIAG_DTC_P2119, DIAG_PASS, snap, friction_rel);
+        } else if (fast && ff <= dd->cfg.friction_fast_high) {
+            (void)diag_report(d, DIAG_DTC_P2119, DIAG_PASS, snap, ff);
+        }
+    }
+    {
+        /* preload: the signature below its bound, or the adapted level below its bound for
+         * param_slow_hold checks in a row */
+        const int slow = TV_IS_FINITE(preload_sigma) && preload_sigma > TV_R(0.0) && preload_sigma <= dd->cfg.preload_sigma_max;
+        if (slow) {
+            dd->slow_m_run = preload_rel < dd->cfg.preload_low_rel ? (uint16_t)(dd->slow_m_run + (dd->slow_m_run < 0xFFFFu ? 1u : 0u)) : 0u;
+        }
+        if (fast && pf < dd->cfg.preload_fast_low && ff <= dd->cfg.preload_fast_friction_max) {
+            (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, pf);
+        } else if (slow && dd->slow_m_run >= dd->cfg.param_slow_hold) {
+            (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, preload_rel);
+        } else if (slow && preload_rel >= dd->cfg.preload_low_rel) {
+            (void)diag_report(d, DIAG_DTC_P1A02, DIAG_PASS, snap, preload_rel);
+        } else if (fast && pf >= dd->cfg.preload_fast_low) {
+            (void)diag_report(d, DIAG_DTC_P1A02, DIAG_PASS, snap, pf);
+        }
     }
 }
 
