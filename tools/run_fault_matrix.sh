@@ -1,18 +1,21 @@
 #!/usr/bin/env bash
 # The fault-matrix benchmark (issue 12): every fault class of host_sim --fault at three or more
-# magnitudes (down to the smallest claimed) x four scenarios (closed-loop normal driving "drive",
+# magnitudes (down to the smallest claimed) x five scenarios (closed-loop normal driving "drive",
 # full-range maximum-slew closed-loop steps, the paper's open-loop 12 V sine, the slow stick-slip
-# sine) x the population's evaluation units of both sections (stops_varied: the filter knows the
-# unit's motor, friction and spring; all_varied: every parameter spread, the filter on its class's
-# defaults) x noise seeds, the fault injected at ONSET s into runs of DURATION s; the same runs
+# sine, limp_home: closed loop with the bridge switched off twice, as at key-off) x the
+# population's evaluation units of both sections (stops_varied: the filter knows the unit's motor,
+# friction and spring; all_varied: every parameter spread, the filter on its class's defaults)
+# x noise seeds, the fault injected at ONSET s into runs of DURATION s; the same runs
 # healthy; and the long healthy soak (tools/run_healthy_soak.sh). tools/fault_matrix.py writes
 # out/fault_matrix/summary.json (per class: detection_rate, delay_median_s, delay_p95_s,
 # isolation_rate; overall false_alarms_healthy, healthy_seconds, confusion_matrix) and matrix.md.
 #
 #   usage: tools/run_fault_matrix.sh [--quick | --full] [--plants N] [--seeds S] [--soak-duration S]
-#                                    [--no-soak] [--jobs J]
-#   default  10 units per section, 1 seed, 8 s runs: 80 runs per fault spec, 41 specs (3,360 runs),
-#            and the 100,800 s soak; about 7 minutes on 2 cores
+#                                    [--no-soak | --soak-from JSON] [--jobs J]
+#   default  10 units per section, 1 seed, 8 s runs: 100 runs per fault spec, 41 specs (4,200 runs),
+#            and the soak (1,620 runs x 70 s = 113,400 s); about 12 minutes on 2 cores
+#   --soak-from JSON  take the soak's figures from an earlier tools/run_healthy_soak.sh summary
+#            (out/soak/summary.json) instead of running it
 #   --quick  2 units, drive and closed_steps, 6 s runs, a 5 s-per-run soak; about 30 s
 #   --full   30 units per section, 3 seeds (the evaluation set of the population benchmark); about
 #            15 minutes plus the soak
@@ -23,9 +26,10 @@ ONSET=2.0
 duration=8
 plants=10
 seeds=1
-scenarios=drive,closed_steps,paper_sine,slow_sine
+scenarios=drive,closed_steps,paper_sine,slow_sine,limp_home
 soak_duration=70
 soak=1
+soak_from=
 jobs=$(nproc 2>/dev/null || echo 2)
 while (($#)); do
   case $1 in
@@ -35,8 +39,9 @@ while (($#)); do
     --seeds) seeds=$2; shift ;;
     --soak-duration) soak_duration=$2; shift ;;
     --no-soak) soak=0 ;;
+    --soak-from) soak=0; soak_from=$2; shift ;;
     --jobs) jobs=$2; shift ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
     *) echo "run_fault_matrix.sh: unknown option '$1' (--help)" >&2; exit 2 ;;
   esac
   shift
@@ -75,7 +80,11 @@ export -f run_spec
 export pop dir ONSET
 export common_str="${common[*]}"
 printf '%s\n' healthy "${specs[@]}" | xargs -P "$jobs" -I{} bash -c 'common=($common_str); run_spec "$@"' _ {}
-soak_json=
+soak_json=$soak_from
+if [[ -n $soak_from && ! -f $soak_from ]]; then
+  echo "run_fault_matrix.sh: --soak-from: no such file '$soak_from'" >&2
+  exit 2
+fi
 if ((soak)); then
   echo "healthy soak: ${soak_duration} s per run (tools/run_healthy_soak.sh)" >&2
   tools/run_healthy_soak.sh --duration "$soak_duration" \
