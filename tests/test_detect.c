@@ -16,6 +16,7 @@
 #include "sim_unit.h"
 #include "tv_status.h"
 #include "tv_test.h"
+#include "sim_fault_run.h"
 
 /* A unit of the population configured as the benchmark does: drawn, the ECU calibrated for it,
  * its stops and contact law learned by the start-up routine (population_main.c learn_stops()).
@@ -38,38 +39,11 @@ static int unit_config(uint64_t unit, plant_spread_t spread, plant_config_t *pc,
     return 1;
 }
 
-/* One run with one fault (spec NULL: healthy), of duration_s [s] (0: the scenario's own). */
-static void run_with_duration(const plant_config_t *pc, const app_config_t *ac, sim_scenario_t scn, uint64_t seed,
-                              const char *spec, double duration_s, sim_result_t *r)
-{
-    sim_options_t opt;
-    static plant_fault_list_t l;
-    sim_options_default(&opt);
-    if (duration_s > 0.0) {
-        opt.duration_s = duration_s;
-    }
-    opt.scenario = scn;
-    opt.seed = seed;
-    opt.plant = pc;
-    opt.app = ac;
-    plant_fault_list_clear(&l);
-    if (spec != NULL) {
-        TV_CHECK_EQ_INT(plant_fault_list_add(&l, spec, NULL, 0u), TV_OK);
-        opt.faults = &l;
-    }
-    TV_CHECK_EQ_INT(sim_run(&opt, r), TV_OK);
-}
-
 /* One run of the scenario's own length with one fault (spec NULL: healthy). */
 static void run_with(const plant_config_t *pc, const app_config_t *ac, sim_scenario_t scn, uint64_t seed, const char *spec,
                      sim_result_t *r)
 {
-    run_with_duration(pc, ac, scn, seed, spec, 0.0, r);
-}
-
-static int ever(const sim_result_t *r, diag_dtc_t d)
-{
-    return isfinite(r->dtc_confirm_t_s[d]) || isfinite(r->dtc_pending_t_s[d]);
+    sim_fault_run(pc, ac, scn, seed, spec, 0.0, r);
 }
 
 /* A track-offset run: the faulty track's code confirmed, the other's never pending, no P2135;
@@ -78,7 +52,7 @@ static void score_named(const sim_result_t *r, int track1, const char *what, int
 {
     const diag_dtc_t good = track1 ? DIAG_DTC_P0121 : DIAG_DTC_P0221;
     const diag_dtc_t other = track1 ? DIAG_DTC_P0221 : DIAG_DTC_P0121;
-    if (isfinite(r->dtc_confirm_t_s[good]) && !ever(r, other) && !isfinite(r->dtc_confirm_t_s[DIAG_DTC_P2135])) {
+    if (isfinite(r->dtc_confirm_t_s[good]) && !sim_dtc_ever(r, other) && !isfinite(r->dtc_confirm_t_s[DIAG_DTC_P2135])) {
         ++*named;
         *worst_s = fmax(*worst_s, r->dtc_confirm_t_s[good] - 1.0);
     } else {
@@ -239,7 +213,7 @@ static void test_winding_resistance_out_of_range(void)
         for (s = 0; s < 4; ++s) {
             run_with(&pc, &ac, scn_hi[s], seed, "winding_resistance_high:1.5@1.0", &r);
             worst_hi = fmax(worst_hi, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]) ? r.dtc_confirm_t_s[DIAG_DTC_P2101] - 1.0 : 1e9);
-            TV_CHECK(!ever(&r, DIAG_DTC_P1A01));
+            TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P1A01));
         }
         for (s = 0; s < 3; ++s) {
             run_with(&pc, &ac, scn_lo[s], seed, "winding_short:0.5@1.0", &r);
@@ -508,7 +482,7 @@ static void mechanics_run(const plant_config_t *pc, const app_config_t *ac, sim_
 {
     sim_result_t r;
     double t;
-    run_with_duration(pc, ac, scn, seed, spec, 12.0, &r);
+    sim_fault_run(pc, ac, scn, seed, spec, 12.0, &r);
     t = isfinite(r.dtc_confirm_t_s[own]) ? r.dtc_confirm_t_s[own] - 1.0 : 1e9;
     l->detected += t < 1e9 ? 1 : 0;
     l->worst_s = fmax(l->worst_s, t);
@@ -704,7 +678,7 @@ static void test_current_sensor_offset_detected(void)
     for (seed = 1u; seed <= 2u; ++seed) {
         for (s = 0; s < 3; ++s) {
             for (f = 0; f < 2; ++f) {
-                run_with_duration(&pc, &ac, scn[s], seed, spec[f], s == 0 ? 0.0 : 12.0, &r);
+                sim_fault_run(&pc, &ac, scn[s], seed, spec[f], s == 0 ? 0.0 : 12.0, &r);
                 ++runs;
                 if (isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04])) {
                     const double t = r.dtc_confirm_t_s[DIAG_DTC_P1A04] - 1.0;
@@ -720,7 +694,7 @@ static void test_current_sensor_offset_detected(void)
                 }
             }
         }
-        run_with_duration(&pc, &ac, SIM_SCN_CLOSED_STEPS, seed, "current_gain:5@1.0", 12.0, &r);
+        sim_fault_run(&pc, &ac, SIM_SCN_CLOSED_STEPS, seed, "current_gain:5@1.0", 12.0, &r);
         for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
             TV_CHECK(!isfinite(r.dtc_confirm_t_s[d]));
         }
@@ -750,7 +724,7 @@ static void test_spring_break_within_300_ms(void)
         for (seed = 1u; seed <= 3u; ++seed) {
             run_with(&pc, &ac, SIM_SCN_PAPER_SINE, seed, spec[k], &r);
             worst = fmax(worst, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A02]) ? r.dtc_confirm_t_s[DIAG_DTC_P1A02] - 1.0 : 1e9);
-            TV_CHECK(!ever(&r, DIAG_DTC_P2119));
+            TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P2119));
         }
     }
     printf("  spring at 0 and 30 %% in the 12 V sine: P1A02 at most %.0f ms after the onset\n", worst * 1e3);
@@ -780,7 +754,7 @@ static void test_friction_plus_25_percent_identified(void)
     TV_CHECK(ac.diag.friction_fast_high < TV_R(1.25));
     for (seed = 1u; seed <= 1u; ++seed) {
         for (s = 0; s < 3; ++s) {
-            run_with_duration(&pc, &ac, scn[s], seed, "friction_high:1.25@1.0", 6.0, &r);
+            sim_fault_run(&pc, &ac, scn[s], seed, "friction_high:1.25@1.0", 6.0, &r);
             worst = fmax(worst, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2119]) ? r.dtc_confirm_t_s[DIAG_DTC_P2119] - 1.0 : 1e9);
             TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A02]));
         }

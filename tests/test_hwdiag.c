@@ -21,6 +21,7 @@
 #include "sim_unit.h"
 #include "tv_status.h"
 #include "tv_test.h"
+#include "sim_fault_run.h"
 
 static diag_snapshot_t snap_at(uint64_t t_us, tv_real_t supply_V)
 {
@@ -232,32 +233,6 @@ static void test_bridge_rule(void)
 /* Against the simulated plant                                                               */
 /* ---------------------------------------------------------------------------------------- */
 
-static void run_fault(const plant_config_t *pc, const app_config_t *ac, sim_scenario_t scn, uint64_t seed, const char *spec,
-                      double duration_s, sim_result_t *r)
-{
-    sim_options_t opt;
-    static plant_fault_list_t l;
-    sim_options_default(&opt);
-    if (duration_s > 0.0) {
-        opt.duration_s = duration_s;
-    }
-    opt.scenario = scn;
-    opt.seed = seed;
-    opt.plant = pc;
-    opt.app = ac;
-    plant_fault_list_clear(&l);
-    if (spec != NULL) {
-        TV_CHECK_EQ_INT(plant_fault_list_add(&l, spec, NULL, 0u), TV_OK);
-        opt.faults = &l;
-    }
-    TV_CHECK_EQ_INT(sim_run(&opt, r), TV_OK);
-}
-
-static int ever(const sim_result_t *r, diag_dtc_t d)
-{
-    return isfinite(r->dtc_confirm_t_s[d]) || isfinite(r->dtc_pending_t_s[d]);
-}
-
 /* A lost drive direction (each one) from 1.0 s, nominal unit, the scenarios that drive both
  * ways with at least 3 V (closed-loop steps and ramp, the 12 V sine, chirp, slow sine,
  * open-loop steps), 3 seeds: P1A03 confirmed in every run, P2100 never confirmed, within
@@ -285,7 +260,7 @@ static void test_bridge_fault_isolated(void)
     for (f = 0; f < 2; ++f) {
         for (s = 0; s < 6; ++s) {
             for (seed = 1u; seed <= 3u; ++seed) {
-                run_fault(&pc, &ac, scn[s], seed, spec[f], 0.0, &r);
+                sim_fault_run(&pc, &ac, scn[s], seed, spec[f], 0.0, &r);
                 ++runs;
                 if (isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A03])) {
                     ++detected;
@@ -302,21 +277,21 @@ static void test_bridge_fault_isolated(void)
         }
     }
     for (seed = 1u; seed <= 5u; ++seed) {
-        run_fault(&pc, &ac, SIM_SCN_CLOSED_STEPS, seed, "winding_open@1.0", 0.0, &r);
+        sim_fault_run(&pc, &ac, SIM_SCN_CLOSED_STEPS, seed, "winding_open@1.0", 0.0, &r);
         worst_open = fmax(worst_open, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2100]) ? r.dtc_confirm_t_s[DIAG_DTC_P2100] - 1.0 : 1e9);
-        TV_CHECK(!ever(&r, DIAG_DTC_P1A03));
-        run_fault(&pc, &ac, SIM_SCN_PAPER_SINE, seed, "winding_open@1.05", 0.0, &r);
+        TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P1A03));
+        sim_fault_run(&pc, &ac, SIM_SCN_PAPER_SINE, seed, "winding_open@1.05", 0.0, &r);
         worst_open = fmax(worst_open, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2100]) ? r.dtc_confirm_t_s[DIAG_DTC_P2100] - 1.05 : 1e9);
-        TV_CHECK(!ever(&r, DIAG_DTC_P1A03));
+        TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P1A03));
     }
     /* faults that change the angle or the current another way: never P1A03 (a named track's
      * offset cancels in the measured motion; a winding resistance x1.5 stays above the bound) */
     for (seed = 1u; seed <= 3u; ++seed) {
-        run_fault(&pc, &ac, SIM_SCN_CLOSED_STEPS, seed, "tps1_offset:1@1.0", 0.0, &r);
-        TV_CHECK(!ever(&r, DIAG_DTC_P1A03));
-        run_fault(&pc, &ac, SIM_SCN_PAPER_SINE, seed, "tps2_offset:-1@1.0", 0.0, &r);
-        TV_CHECK(!ever(&r, DIAG_DTC_P1A03));
-        run_fault(&pc, &ac, SIM_SCN_PAPER_SINE, seed, "winding_resistance_high:1.5@1.0", 0.0, &r);
+        sim_fault_run(&pc, &ac, SIM_SCN_CLOSED_STEPS, seed, "tps1_offset:1@1.0", 0.0, &r);
+        TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P1A03));
+        sim_fault_run(&pc, &ac, SIM_SCN_PAPER_SINE, seed, "tps2_offset:-1@1.0", 0.0, &r);
+        TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P1A03));
+        sim_fault_run(&pc, &ac, SIM_SCN_PAPER_SINE, seed, "winding_resistance_high:1.5@1.0", 0.0, &r);
         TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A03]));
     }
     printf("  lost direction: P1A03 in %d of %d runs, at most %.0f ms after the onset, never P2100; open winding: P2100 "
@@ -342,7 +317,7 @@ static void test_supply_low(void)
     plant_config_default(&pc);
     app_config_default(&ac);
     for (seed = 1u; seed <= 3u; ++seed) {
-        run_fault(&pc, &ac, SIM_SCN_CLOSED_STEPS, seed, "supply_sag:2.5@1.0", 0.0, &r);
+        sim_fault_run(&pc, &ac, SIM_SCN_CLOSED_STEPS, seed, "supply_sag:2.5@1.0", 0.0, &r);
         TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P0562]));
         lat = r.dtc_confirm_t_s[DIAG_DTC_P0562] - 1.0;
         TV_CHECK(lat >= 0.49 - 1e-9);
@@ -352,8 +327,8 @@ static void test_supply_low(void)
                 TV_CHECK(!isfinite(r.dtc_confirm_t_s[k]));
             }
         }
-        run_fault(&pc, &ac, SIM_SCN_PAPER_SINE, seed, "supply_sag:1.5@1.0", 0.0, &r);
-        TV_CHECK(!ever(&r, DIAG_DTC_P0562));
+        sim_fault_run(&pc, &ac, SIM_SCN_PAPER_SINE, seed, "supply_sag:1.5@1.0", 0.0, &r);
+        TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P0562));
     }
     printf("  supply 11.0 V: P0562 %.0f ms after the onset\n", lat * 1e3);
 }
@@ -383,18 +358,18 @@ static void test_track_dropouts(void)
         const diag_dtc_t other = tr == 0 ? DIAG_DTC_P0222 : DIAG_DTC_P0122;
         for (s = 0; s < 2; ++s) {
             for (seed = 1u; seed <= 3u; ++seed) {
-                run_fault(&pc, &ac, scn[s], seed, spec[tr][0], 0.0, &r);
+                sim_fault_run(&pc, &ac, scn[s], seed, spec[tr][0], 0.0, &r);
                 worst10 = fmax(worst10, isfinite(r.dtc_confirm_t_s[own]) ? r.dtc_confirm_t_s[own] - 1.0 : 1e9);
-                TV_CHECK(!ever(&r, other));
+                TV_CHECK(!sim_dtc_ever(&r, other));
                 TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P0121]) && !isfinite(r.dtc_confirm_t_s[DIAG_DTC_P0221]) &&
                          !isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2135]));
-                run_fault(&pc, &ac, scn[s], seed, spec[tr][1], 0.0, &r);
+                sim_fault_run(&pc, &ac, scn[s], seed, spec[tr][1], 0.0, &r);
                 TV_CHECK(isfinite(r.dtc_confirm_t_s[own]));
                 TV_CHECK_NEAR(r.dtc_confirm_t_s[own] - 1.0, 0.004, 1e-9);
-                TV_CHECK(!ever(&r, other));
-                run_fault(&pc, &ac, scn[s], seed, spec[tr][2], 4.0, &r);
+                TV_CHECK(!sim_dtc_ever(&r, other));
+                sim_fault_run(&pc, &ac, scn[s], seed, spec[tr][2], 4.0, &r);
                 worst1 = fmax(worst1, isfinite(r.dtc_confirm_t_s[own]) ? r.dtc_confirm_t_s[own] - 1.0 : 1e9);
-                TV_CHECK(!ever(&r, other));
+                TV_CHECK(!sim_dtc_ever(&r, other));
             }
         }
     }
@@ -452,10 +427,10 @@ static void test_healthy_never_pending(void)
                     continue;
                 }
                 for (seed = 1u; seed <= (spread < 0 ? 5u : 1u); ++seed) {
-                    run_fault(&pc, &ac, (sim_scenario_t)k, seed, NULL, 0.0, &r);
+                    sim_fault_run(&pc, &ac, (sim_scenario_t)k, seed, NULL, 0.0, &r);
                     ++runs;
                     for (m = 0; m < 4; ++m) {
-                        if (ever(&r, mine[m])) {
+                        if (sim_dtc_ever(&r, mine[m])) {
                             ++pending;
                             fprintf(stderr, "  unit %d %s: %s pending\n", (int)unit, sim_scenario_name((sim_scenario_t)k),
                                     diag_dtc_info(mine[m])->code);
