@@ -178,12 +178,13 @@ int st_step(st_t *t, const tvm_params_t *model, tv_real_t phi_rad, int phi_valid
 
 int st_envelope(st_t *t, tv_real_t phi_meas, tv_real_t phi_pred, tv_real_t step_rad)
 {
-    const tv_real_t thr = t->cfg.env_min_rad;
+    tv_real_t thr;
     int q;
     if (t == NULL || !t->cfg.enable || !t->cfg.envelope || !TV_IS_FINITE(phi_meas) || !TV_IS_FINITE(phi_pred) ||
         !TV_IS_FINITE(step_rad)) {
         return 0;
     }
+    thr = t->cfg.env_min_rad;
     for (q = 0; q < ST_NSTOPS; ++q) {
         const tv_real_t s = q == ST_CLOSED ? TV_R(-1.0) : TV_R(1.0);
         /* an onset never crosses zero (limp-home lies between the stops): the sign test */
