@@ -84,6 +84,16 @@ class Tally:
         if res.get("param_err") is not None:
             self.param_err.append(res["param_err"])
 
+    def merge(self, other):
+        """Add another tally's runs (not its parameter errors: those of different classes are
+        different parameters)."""
+        self.runs += other.runs
+        self.detected += other.detected
+        self.isolated += other.isolated
+        self.any_code += other.any_code
+        self.early += other.early
+        self.delays += other.delays
+
     def json(self):
         d = {
             "runs": self.runs,
@@ -168,12 +178,7 @@ def main():
             soak = json.load(f)
     total = Tally()
     for t in per_class.values():
-        total.runs += t.runs
-        total.detected += t.detected
-        total.isolated += t.isolated
-        total.any_code += t.any_code
-        total.early += t.early
-        total.delays += t.delays
+        total.merge(t)
     summary = {
         "classes": {c: per_class[c].json() for c in sorted(per_class)},
         "specs": {spec: dict(per_spec[(c, spec)].json(), fault_class=c) for (c, spec) in sorted(per_spec)},
