@@ -33,7 +33,7 @@ void tvm_params_default(tvm_params_t *p)
     p->k_stop_Nm_rad = TV_R(1.0e4);
     p->d_stop_Nm_s_rad = TV_R(2.4);
     p->stop_exponent = TV_R(0.0);
-    p->e_phi_rad = TV_R(1.0e-3);
+    p->e_phi_rad = TV_R(1.0e-4);
     p->e_w_rad_s = TV_R(1.0e-3);
     p->Ts_s = (tv_real_t)TV_PAPER_TS_S;
     p->substeps = 10;

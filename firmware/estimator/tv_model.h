@@ -117,7 +117,10 @@ typedef struct {
  *   phi_closed = -0.10 rad (-5.7 deg, OEM bodies close 5-7 deg below limp-home),
  *   phi_open   = phi_closed + 84 deg = 1.3660766 rad,
  *   k_stop = 1e4 N m/rad (8 mrad penetration for a 20 rad/s impact), d_stop = 2.4 N m s/rad
- *   (damping ratio 0.3 against J), stop_exponent = 0 (Kelvin-Voigt), e_phi = 1e-3 rad, e_w = 1e-3 rad/s, Ts = 1e-3 s, N = 10.
+ *   (damping ratio 0.3 against J), stop_exponent = 0 (Kelvin-Voigt), e_phi = 1e-4 rad (the limp-home detent is a
+ *   mechanical contact: a plate resting in it feels the whole preload within 0.1 mrad, so a wider
+ *   smoothing lets the model slide where the real plate rests; README "Limp-home detent"),
+ *   e_w = 1e-3 rad/s, Ts = 1e-3 s, N = 10.
  */
 void tvm_params_default(tvm_params_t *p);
 

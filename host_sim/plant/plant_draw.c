@@ -188,6 +188,9 @@ int plant_draw(plant_class_t c, plant_spread_t s, uint64_t unit_id, plant_config
             p.M0_Nm *= fM0;
         }
     }
+    /* drawn after everything above, so that the earlier draws of a unit did not change when it
+     * was added: the limp-home detent's half-width (a contact, as the stops: both spreads) */
+    p.limp_home_width_rad = draw_lu(&st, 3e-5, 3e-4);
     /* the integration step the draw needs (bounded: at most PLANT_SUBSTEPS_PER_MS_MAX / 25 tries) */
     while (plant_config_check(&p, &rc) != NULL) {
         if (rc != TV_ERR_CONFIG || p.substeps_per_ms + 25 > PLANT_SUBSTEPS_PER_MS_MAX) {

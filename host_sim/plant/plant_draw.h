@@ -27,6 +27,9 @@
  *           its rise to the open stop 0.80 +- 0.02 (the sensor is adjusted to the unit's travel
  *           at end of line, tps_ref_* = the drawn stops); sensor supply 5 V +- 2 %; divider
  *           gains +- 1 %; bridge supply 13.5 V +- 1 V;
+ *       limp-home detent half-width LU(3e-5, 3e-4) rad (the class nominal 1e-4: the preload
+ *           acts through the contact of the two springs' levers; the filter smooths it over
+ *           its own e_phi, 1e-4 rad);
  *   PLANT_SPREAD_ALL    everything of STOPS, and: R, L, J, c, M0 x U(0.8, 1.2); Kt = Ke
  *       x U(0.9, 1.1) (one factor); Mc x U(0.7, 1.3), Ms x U(0.7, 1.3) then Ms >= Mc; ws
  *       x LU(0.5, 2); Kv x U(0.5, 1.5).

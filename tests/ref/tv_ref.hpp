@@ -61,7 +61,7 @@ struct Params {
     double phi_open_rad = 1.3660766;
     double k_stop_Nm_rad = 1.0e4;
     double d_stop_Nm_s_rad = 2.4;
-    double e_phi_rad = 1.0e-3;
+    double e_phi_rad = 1.0e-4;
     double e_w_rad_s = 1.0e-3;
     double Ts_s = 1.0e-3;
     int substeps = 10;
