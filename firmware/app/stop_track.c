@@ -17,7 +17,7 @@ void st_config_default(st_config_t *cfg)
     cfg->enable = 1u;
     cfg->block = 100u;
     cfg->rest_band_rad = TV_R(1.5e-3);
-    cfg->w_rest_rad_s = TV_R(0.5);
+    cfg->w_rest_rad_s = TV_R(5.0);
     cfg->near_rad = TV_R(0.01);
     cfg->push_min_Nm = TV_R(0.3);
     cfg->push_max_Nm = TV_R(3.0);

@@ -12,8 +12,8 @@
  * is what broke it before the start-up learning (README "Stop contact"). The tracker watches for
  * blocks of st_config_t::block samples in which
  *   - the measured angle (both tracks, or the one left) is valid in every sample,
- *   - the plate rests: the angle's range within the block is at most rest_band_rad and the
- *     estimated |w| stays below w_rest_rad_s,
+ *   - the plate rests: the angle's range within the block is at most rest_band_rad (and the
+ *     estimated |w| stays below the loose sanity bound w_rest_rad_s),
  *   - the block's mean angle lies beyond the tracked onset, or within near_rad before it,
  *   - the mean net torque into that stop, P = s (n Kt i - M0 sp(phi) - c phi) from the estimated
  *     current and the model's springs, lies in [push_min_Nm, push_max_Nm] (a torque large enough
@@ -50,7 +50,13 @@ typedef struct {
     uint8_t enable;           /**< 1: track (default); 0: the onsets stay as given */
     uint16_t block;           /**< samples per rest block, 20..ST_BLOCK_MAX; default 100 (0.1 s) */
     tv_real_t rest_band_rad;  /**< largest range of the measured angle within a rest block, > 0; default 1.5e-3 */
-    tv_real_t w_rest_rad_s;   /**< |estimated w| below this in every sample of the block, > 0; default 0.5 (the estimate jitters by about 0.2 rad/s against a stiff stop; the angle range is the finer test) */
+    tv_real_t w_rest_rad_s;   /**< |estimated w| below this in every sample of the block, > 0; default 5: a sanity
+                                   bound only. The angle range is the rest test (1.5 mrad over 0.1 s is a mean
+                                   speed below 0.015 rad/s); the estimate flips by +-1 rad/s against a soft stop
+                                   whose rest angle under a large push the model misplaces by a mrad, which is
+                                   the very error the tracker must remove (with 0.5 it refused every block of a
+                                   class-b unit held against its open stop at 10 V: measured, README "Stop
+                                   contact") */
     tv_real_t near_rad;       /**< the block's mean may lie this far before the onset, >= 0; default 0.01 */
     tv_real_t push_min_Nm;    /**< least mean net torque into the stop, > 0; default 0.3 */
     tv_real_t push_max_Nm;    /**< largest, > push_min_Nm; default 3 */
