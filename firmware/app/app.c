@@ -48,6 +48,7 @@ void app_config_default(app_config_t *cfg)
     nism_config_default(&cfg->nism);
     sl_config_default(&cfg->stop_learn);
     st_config_default(&cfg->stop_track);
+    il_config_default(&cfg->impact_learn);
     diag_detect_config_default(&cfg->diag);
     app_calib_default(&cfg->calib, &cfg->model);
     /* Tracks span 0.1..0.9 of full scale over the travel; a stop penetration of a few mrad
@@ -162,6 +163,10 @@ int app_init(app_t *app, const app_config_t *cfg)
             return rc;
         }
     }
+    rc = il_config_check(&cfg->impact_learn);
+    if (rc != TV_OK) {
+        return rc;
+    }
     {
         diag_detect_t probe;
         rc = diag_detect_init(&probe, &cfg->diag);
@@ -174,6 +179,7 @@ int app_init(app_t *app, const app_config_t *cfg)
     app->ekf = ekf;
     (void)nism_init(&app->nism, &cfg->nism); /* validated above */
     (void)st_reset(&app->st, &cfg->stop_track, cfg->model.phi_closed_rad, cfg->model.phi_open_rad); /* likewise */
+    (void)il_reset(&app->il, &cfg->impact_learn, &app->ekf.model.p); /* a law without stiffness: never learns */
     diag_init(&app->diag);
     (void)diag_detect_init(&app->ddet, &cfg->diag); /* validated above */
     {
@@ -509,6 +515,8 @@ static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
                     app->cfg.model.k_stop_Nm_rad = app->sl.k_stop;
                     app->cfg.model.stop_exponent = app->sl.exponent;
                     app->cfg.model.d_stop_Nm_s_rad = app->sl.cfg.lambda_per_k_s_rad * app->sl.k_stop;
+                    /* impacts refine the new law from here */
+                    (void)il_reset(&app->il, &app->cfg.impact_learn, &app->ekf.model.p);
                 }
             }
             app->cfg.control.mode = APP_MODE_OFF;
@@ -857,6 +865,14 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
                               : 0;
         if (st_step(&app->st, &app->ekf.model.p, angle, angle_ok, xs[TVM_I], xs[TVM_W]) || moved) {
             (void)use_stops(app, app->st.onset[ST_CLOSED], app->st.onset[ST_OPEN]);
+        }
+        /* impact learning (impact_learn.h): the law the impacts show goes to the estimator */
+        if (il_step(&app->il, &app->ekf.model.p, angle, angle_ok, xs, w_pred)) {
+            const tv_real_t e = app->ekf.model.p.stop_exponent;
+            if (ekf_set_contact_law(&app->ekf, app->il.k, e, app->il.alpha * app->il.k) == TV_OK) {
+                app->cfg.model.k_stop_Nm_rad = app->il.k;
+                app->cfg.model.d_stop_Nm_s_rad = app->il.alpha * app->il.k;
+            }
         }
     }
     if (angle_ok && periods > 0u) {

@@ -24,6 +24,7 @@
 #include "nis_monitor.h"
 #include "stop_learn.h"
 #include "stop_track.h"
+#include "impact_learn.h"
 #include "tv_model.h"
 #include "tv_real.h"
 
@@ -144,6 +145,7 @@ typedef struct {
     nism_config_t nism;   /**< consistency monitor (nis_monitor.h) */
     sl_config_t stop_learn; /**< start-up stop learning (APP_MODE_STOP_LEARN, stop_learn.h) */
     st_config_t stop_track; /**< online stop tracking in service (stop_track.h) */
+    il_config_t impact_learn; /**< the stops' contact damping and stiffness from impacts in service (impact_learn.h) */
     diag_detect_config_t diag; /**< fault detectors of the diagnostic codes (firmware/diag/diag_detect.h) */
     app_calib_t calib;
     app_limits_t limits;
@@ -229,6 +231,7 @@ typedef struct {
     nism_t nism;              /**< consistency monitor on the estimator's innovations */
     sl_t sl;                  /**< stop-learning routine (APP_MODE_STOP_LEARN) and its last result */
     st_t st;                  /**< online stop tracking (stop_track.h): the estimator's stops follow the unit */
+    il_t il;                  /**< impact learning (impact_learn.h): the estimator's contact law follows the unit's impacts */
     diag_t diag;              /**< diagnostic codes; the platform drains its events (diag_event_pop()) */
     diag_detect_t ddet;       /**< the detectors' state */
     uint8_t diag_bridge_on;   /**< 1: the bridge drove the period now ending (the open-winding check's condition) */

@@ -242,6 +242,13 @@ typedef struct {
     double stop_onset_rad[2];        /**< the estimator's stop onsets at the end (closed, open; tracked online, stop_track.h) [rad] */
     uint32_t stop_track_accepted;    /**< rest blocks that moved an onset */
     uint32_t stop_track_refused;     /**< rest blocks refused (outside the tracking window) */
+    uint32_t impact_learned;         /**< impacts the contact law was learned from (impact_learn.h) */
+    uint32_t impact_k_updates;       /**< of which updated the stiffness */
+    uint32_t impact_abandoned;       /**< impacts armed but not learned from */
+    double contact_k;                /**< the estimator's contact stiffness at the end [N m/rad^e] */
+    double contact_alpha_s_rad;      /**< its damping ratio d / k at the end [s/rad] */
+    double contact_exponent;         /**< its exponent (0: Kelvin-Voigt) */
+    double impact_r_last;            /**< restitution of the last impact learned from [-] (NaN: none) */
     int stop_learn_phase;            /**< sl_phase_t at the end (SL_IDLE: the routine did not run) */
     int stop_learn_error;            /**< sl_error_t at the end */
     double stop_learn_closed_rad;    /**< learned closed stop [rad] (NaN unless SL_DONE) */

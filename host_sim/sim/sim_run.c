@@ -649,6 +649,15 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
     res->stop_onset_rad[1] = (double)app->ekf.model.p.phi_open_rad;
     res->stop_track_accepted = app->st.n_accepted;
     res->stop_track_refused = app->st.n_refused;
+    res->impact_learned = app->il.n_learned;
+    res->impact_k_updates = app->il.n_k;
+    res->impact_abandoned = app->il.n_abandoned;
+    res->contact_k = (double)app->ekf.model.p.k_stop_Nm_rad;
+    res->contact_alpha_s_rad = app->ekf.model.p.k_stop_Nm_rad > TV_R(0.0)
+                                   ? (double)(app->ekf.model.p.d_stop_Nm_s_rad / app->ekf.model.p.k_stop_Nm_rad)
+                                   : SIM_NAN;
+    res->contact_exponent = (double)app->ekf.model.p.stop_exponent;
+    res->impact_r_last = app->il.n_learned > 0u ? (double)app->il.r_last : SIM_NAN;
     res->stop_learn_phase = (int)app->sl.phase;
     res->stop_learn_error = (int)app->sl.error;
     if (app->sl.phase == SL_DONE) {

@@ -1,0 +1,135 @@
+/**
+ * @file impact_learn.h
+ * @brief Impact learning: the stops' contact damping (and, where the sensor resolves it, their
+ *        stiffness) from the plate's impacts in service. Pure C99, no heap, no globals; float and
+ *        double builds.
+ *
+ * Why (README "Stop contact", measured): the start-up routine (stop_learn.h) fits the contact
+ * law from rest angles under static torques of at most 1.2 N m, which press a stiff stop by less
+ * than one count of the angle sensor (0.45 mrad): its stiffness is then a bound, and its damping
+ * is a fixed ratio of it (lambda_per_k_s_rad). At an impact what matters is the restitution: the
+ * population's stops rebound with 0.05 .. 0.85 of the impact speed; a model whose stop rebounds
+ * with 0.5 where the unit's is nearly plastic put the velocity estimate 4.5 rad/s off at every
+ * impact, which made the filter worse than differentiating the angle on two units.
+ *
+ * Law. The model's Hunt-Crossley stop (tv_model.h, stop_exponent e >= 1) has the torque
+ * p^e (k + d dp/dt) with d = alpha k. Free of other torques, an impact at speed v_in leaves at
+ * v_out = r v_in where r depends on alpha v_in alone (the energy balance of the compression and
+ * restitution phases integrated in closed form: x - ln(1 + x) = -r x - ln(1 - r x), x = alpha
+ * v_in), and the deepest penetration follows from
+ *   k p_max^(e+1) / (e + 1) = J (x - ln(1 + x)) / alpha^2   (+ the work P p_max of a torque P
+ *                                                          pressing into the stop).
+ * The damping is learned from what the estimator's corrections say about the model's rebound
+ * (not from the physical restitution: a model whose stop is softer than the unit's, because the
+ * sensor cannot resolve its stiffness, predicts the best velocity with more damping than the
+ * unit has; measured), the stiffness from the deepest measured penetration where the sensor
+ * resolves it.
+ *
+ * Measurement of one impact (il_step(), per sample, after the estimator's correction):
+ *   1. armed when the estimate moves toward a stop at |w| >= v_min_rad_s and the onset lies
+ *      within |w| Ts + arm_margin_rad of it: v_in = |w| (the estimate before the impact is
+ *      good: the plate flew freely);
+ *   2. contact: the samples whose measured angle lies beyond the onset (none for a stiff stop:
+ *      it rebounds within a sample) are counted, their deepest penetration p_max kept, and the
+ *      net torque the model puts into the stop (motor, springs) averaged (P);
+ *   3. the impact is over when the estimate moves away from the stop and the measured angle is
+ *      outside the onset (a contact seen, or a reversal within the first sample: no drive does
+ *      that), and abandoned when the plate stays near the stop for contact_max samples (it
+ *      rests) or never reaches it; over the impact and settle samples after it, the estimator's
+ *      velocity corrections (posterior - prior) are summed as speed away from the stop: dw;
+ *   4. alpha <- alpha exp(-gain dw / v_in) (at most a factor of 2 per impact), bounded to
+ *      alpha_min .. alpha_max: corrections that keep taking away-speed the model's rebound gave
+ *      mean too little damping; and, when p_max >= p_min_rad over at least two samples,
+ *      k <- k (k_obs / k)^gain with k_obs from the penetration relation, bounded as a secant
+ *      stiffness at IL_P_REF_RAD to k_sec_min .. k_sec_max (the start-up routine's bounds).
+ * The application then gives the estimator the law (k, e, alpha k): ekf_set_contact_law().
+ *
+ * Not run for a Kelvin-Voigt model (stop_exponent 0: the stops were never learned; its damping
+ * is not a ratio of its stiffness) nor while the start-up routine runs.
+ *
+ * Cost: per sample a few comparisons and sums; per impact one exp and, for k, one log, one
+ * exp and two powers.
+ */
+#ifndef IMPACT_LEARN_H
+#define IMPACT_LEARN_H
+
+#include <stdint.h>
+
+#include "tv_model.h"
+#include "tv_real.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Penetration at which the stiffness bounds are secant stiffnesses [rad] (as stop_learn.h's). */
+#define IL_P_REF_RAD TV_R(0.0025)
+
+/** Configuration. Units SI. */
+typedef struct {
+    uint8_t enable;          /**< 1: learn (default); 0: the law stays as given */
+    tv_real_t v_min_rad_s;   /**< least impact speed learned from, > 0; default 3 */
+    tv_real_t arm_margin_rad; /**< armed within |w| Ts + this of an onset, > 0; default 0.002 */
+    uint16_t contact_max;    /**< samples near the stop after which the impact is abandoned, 2..1000; default 30 */
+    uint16_t settle;         /**< samples after the impact before v_out is read, 1..20; default 3 */
+    tv_real_t gain;          /**< log-domain low-pass gain per impact, (0, 1]; default 0.3 */
+    tv_real_t alpha_min;     /**< damping ratio bounds [s/rad], 0 < min < max; default 0.01 */
+    tv_real_t alpha_max;     /**< default 2 (the model's explicit sub-steps stay stable with the
+                                  damping this gives at the stiffness bound: test) */
+    tv_real_t p_min_rad;     /**< least measured penetration for a stiffness update, > 0; default 0.0015 (3 counts) */
+    tv_real_t k_sec_min;     /**< stiffness bounds as secant stiffness at IL_P_REF_RAD [N m/rad], 0 < min < max; default 100 */
+    tv_real_t k_sec_max;     /**< default 1e4 (stop_learn.h's k_max: the model's contact stays stable) */
+} il_config_t;
+
+/** Phases of one impact. */
+typedef enum { IL_IDLE = 0, IL_ARMED = 1, IL_AFTER = 2 } il_phase_t;
+
+/** State. */
+typedef struct {
+    il_config_t cfg;
+    il_phase_t phase;
+    uint8_t stop;            /**< 0 closed, 1 open: the stop of the impact under way */
+    uint16_t n;              /**< samples since armed (IL_ARMED) or since the impact ended (IL_AFTER) */
+    uint16_t n_contact;      /**< samples with the measured angle beyond the onset */
+    tv_real_t v_in;          /**< impact speed [rad/s] */
+    tv_real_t p_max;         /**< deepest measured penetration [rad] */
+    tv_real_t push_sum;      /**< sum of the net torque into the stop over the impact [N m] */
+    tv_real_t push_n;        /**< samples in push_sum */
+    tv_real_t dw_sum;        /**< sum of the estimator's velocity corrections away from the stop [rad/s] */
+    /* results */
+    tv_real_t alpha;         /**< learned damping ratio d / k [s/rad] (valid when n_learned > 0) */
+    tv_real_t k;             /**< learned stiffness [N m/rad^e] (the law's, updated when resolvable) */
+    tv_real_t r_last;        /**< the last impact's dw / v_in [-]: the model's rebound error relative to the impact speed */
+    uint32_t n_learned;      /**< impacts learned from */
+    uint32_t n_k;            /**< of which updated the stiffness */
+    uint32_t n_abandoned;    /**< impacts armed but not learned from (rest, no reversal, invalid angle) */
+} il_t;
+
+/** Defaults as documented at il_config_t. */
+void il_config_default(il_config_t *cfg);
+
+/** @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE; TV_ERR_CONFIG (a value outside its documented range). */
+int il_config_check(const il_config_t *cfg);
+
+/**
+ * Start from the model's law (k_stop, d_stop: alpha = d / k). Counters at 0.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (configuration invalid, or a law without stiffness).
+ */
+int il_reset(il_t *il, const il_config_t *cfg, const tvm_params_t *model);
+
+/**
+ * One sample after the estimator's correction. model: the estimator's model (onsets, springs,
+ * n Kt, J, the law in use); phi_meas: the measured angle, phi_valid 0 when there is none (an
+ * impact under way is abandoned); x: the corrected estimate (i, w, phi); w_prior: the velocity
+ * the estimator predicted for this sample, before the correction [rad/s].
+ * @return 1 when an impact was learned from and the law changed (il->k, il->alpha: the
+ *         application gives the estimator k, the model's exponent and alpha k), 0 otherwise.
+ */
+int il_step(il_t *il, const tvm_params_t *model, tv_real_t phi_meas, int phi_valid, const tv_real_t x[TVM_NX],
+            tv_real_t w_prior);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* IMPACT_LEARN_H */

@@ -1,0 +1,268 @@
+/**
+ * @file test_impact_learn.c
+ * @brief Impact learning (firmware/app/impact_learn.h): the configuration validated; on
+ *        hand-written impact sequences the damping ratio moves by the documented law (expected
+ *        values written out here from the inputs, not taken from the code), stays within its
+ *        bounds and per-impact factor, and the stiffness follows the penetration relation; no
+ *        learning from a plate that rests against the stop, an invalid angle, a reversal away
+ *        from any stop or a Kelvin-Voigt model; in the application over the simulated plant, a
+ *        unit whose stop is nearly plastic (population unit 1014) gets more damping and a better
+ *        velocity estimate than without the learning.
+ */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "app.h"
+#include "impact_learn.h"
+#include "plant_draw.h"
+#include "sim.h"
+#include "sim_unit.h"
+#include "tv_status.h"
+#include "tv_test.h"
+
+#define R(x) ((tv_real_t)(x))
+
+/* A model with a learned Hunt-Crossley law: k = 1e4 N m/rad, e = 1, d = 0.16 k; closed stop
+ * -0.100, open 1.366 rad (the defaults). */
+static tvm_params_t law_model(void)
+{
+    tvm_params_t p;
+    tvm_params_default(&p);
+    p.k_stop_Nm_rad = R(1.0e4);
+    p.stop_exponent = R(1.0);
+    p.d_stop_Nm_s_rad = R(0.16 * 1.0e4);
+    return p;
+}
+
+/* The current that makes the model's net torque into the closed stop zero at angle phi < 0
+ * (motor = springs: n Kt i = -M0 + c phi), so that the penetration relation has no push term. */
+static double current_no_push(const tvm_params_t *p, double phi)
+{
+    return (-(double)p->M0_Nm + (double)p->c_Nm_rad * phi) / ((double)p->n_gear * (double)p->Kt_Nm_A);
+}
+
+static int step(il_t *il, const tvm_params_t *p, double phi_meas, double i, double w, double phi_est, double w_prior)
+{
+    const tv_real_t x[TVM_NX] = {R(i), R(w), R(phi_est)};
+    return il_step(il, p, R(phi_meas), 1, x, R(w_prior));
+}
+
+/*
+ * One impact on the closed stop (onset -0.100) at v_in = 10 rad/s, stiff (never measured
+ * beyond the onset): the last approaching sample 5 mm above the stop at -10 rad/s, then a
+ * reversal to +5 within the impact sample, then `settle` samples whose corrections take
+ * `dw_each` of away-speed each. Returns what the last il_step() returned.
+ */
+static int stiff_impact(il_t *il, const tvm_params_t *p, double dw_each)
+{
+    const double on = (double)p->phi_closed_rad;
+    const double i = current_no_push(p, on);
+    int k;
+    int rc = 0;
+    TV_CHECK_EQ_INT(step(il, p, on + 0.005, i, -10.0, on + 0.005, -10.0), 0);
+    TV_CHECK_EQ_INT((int)il->phase, (int)IL_ARMED);
+    TV_CHECK_EQ_INT(step(il, p, on + 0.0003, i, 5.0, on + 0.0003, 5.0), 0);
+    TV_CHECK_EQ_INT((int)il->phase, (int)IL_AFTER);
+    for (k = 0; k < (int)il->cfg.settle; ++k) {
+        rc = step(il, p, on + 0.001 * (k + 1), i, 5.0 + dw_each, on + 0.001 * (k + 1), 5.0);
+    }
+    return rc;
+}
+
+static void test_configuration_is_validated(void)
+{
+    il_config_t c;
+    il_t il;
+    tvm_params_t p = law_model();
+    il_config_default(&c);
+    TV_CHECK_EQ_INT(il_config_check(&c), TV_OK);
+    TV_CHECK_EQ_INT(il_config_check(NULL), TV_ERR_NULL);
+    c.gain = R(0.0);
+    TV_CHECK_EQ_INT(il_config_check(&c), TV_ERR_CONFIG);
+    il_config_default(&c);
+    c.alpha_max = c.alpha_min;
+    TV_CHECK_EQ_INT(il_config_check(&c), TV_ERR_CONFIG);
+    il_config_default(&c);
+    c.settle = 0u;
+    TV_CHECK_EQ_INT(il_config_check(&c), TV_ERR_CONFIG);
+    il_config_default(&c);
+    c.v_min_rad_s = (tv_real_t)NAN;
+    TV_CHECK_EQ_INT(il_config_check(&c), TV_ERR_NONFINITE);
+    il_config_default(&c);
+    TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
+    TV_CHECK_NEAR(il.alpha, 0.16, 1e-6);
+    p.k_stop_Nm_rad = R(0.0);
+    TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_ERR_CONFIG);
+}
+
+static void test_damping_follows_the_corrections(void)
+{
+    const tvm_params_t p = law_model();
+    il_config_t c;
+    il_t il;
+    double expected;
+    il_config_default(&c);
+    TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
+    /* the measurements take 1 rad/s of away-speed per settle sample: dw = -settle */
+    TV_CHECK_EQ_INT(stiff_impact(&il, &p, -1.0), 1);
+    expected = 0.16 * exp((double)c.gain * (double)c.settle / 10.0);
+    printf("  too bouncy: alpha 0.16 -> %.4f s/rad (expected %.4f)\n", (double)il.alpha, expected);
+    TV_CHECK_NEAR(il.alpha, expected, 1e-5 * expected + 1e-7);
+    TV_CHECK_EQ_INT((int)il.n_learned, 1);
+    TV_CHECK_EQ_INT((int)il.n_k, 0); /* never measured beyond the onset: k stays */
+    TV_CHECK(il.k == p.k_stop_Nm_rad);
+    /* corrections adding away-speed: less damping, by the same law */
+    TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
+    TV_CHECK_EQ_INT(stiff_impact(&il, &p, +0.5), 1);
+    expected = 0.16 * exp(-(double)c.gain * 0.5 * (double)c.settle / 10.0);
+    TV_CHECK_NEAR(il.alpha, expected, 1e-5 * expected + 1e-7);
+    /* one impact moves alpha by at most a factor of 2; many stay within the bounds */
+    TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
+    TV_CHECK_EQ_INT(stiff_impact(&il, &p, -100.0), 1);
+    TV_CHECK_NEAR(il.alpha, 0.32, 1e-5);
+    {
+        int k;
+        for (k = 0; k < 20; ++k) {
+            (void)stiff_impact(&il, &p, -100.0);
+        }
+        TV_CHECK(il.alpha == c.alpha_max);
+        for (k = 0; k < 40; ++k) {
+            (void)stiff_impact(&il, &p, +100.0);
+        }
+        TV_CHECK(il.alpha == c.alpha_min);
+        TV_CHECK_EQ_INT((int)il.n_learned, 61);
+    }
+}
+
+static void test_stiffness_from_a_resolved_penetration(void)
+{
+    const tvm_params_t p = law_model();
+    const double on = (double)p.phi_closed_rad;
+    const double pen[3] = {0.002, 0.004, 0.003}; /* measured beyond the onset, deepest 4 mrad */
+    il_config_t c;
+    il_t il;
+    int k;
+    double x;
+    double k_obs;
+    double expected;
+    il_config_default(&c);
+    TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
+    TV_CHECK_EQ_INT(step(&il, &p, on + 0.004, current_no_push(&p, on), -10.0, on + 0.004, -10.0), 0);
+    for (k = 0; k < 3; ++k) {
+        TV_CHECK_EQ_INT(step(&il, &p, on - pen[k], current_no_push(&p, on - pen[k]), k < 2 ? -3.0 : 2.0, on - pen[k],
+                             k < 2 ? -3.0 : 2.0),
+                        0);
+    }
+    /* out: away and outside; no corrections after (alpha stays) */
+    TV_CHECK_EQ_INT(step(&il, &p, on + 0.0005, current_no_push(&p, on), 3.0, on + 0.0005, 3.0), 0);
+    TV_CHECK_EQ_INT((int)il.phase, (int)IL_AFTER);
+    for (k = 0; k < (int)c.settle; ++k) {
+        const int rc = step(&il, &p, on + 0.001 * (k + 2), current_no_push(&p, on), 3.0, on + 0.001 * (k + 2), 3.0);
+        TV_CHECK_EQ_INT(rc, k + 1 == (int)c.settle ? 1 : 0);
+    }
+    TV_CHECK_EQ_INT((int)il.n_k, 1);
+    TV_CHECK_NEAR(il.alpha, 0.16, 1e-6);
+    /* k p^2 / 2 = J (x - ln(1 + x)) / alpha^2, x = alpha v_in (e = 1, no push), low-passed in log */
+    x = 0.16 * 10.0;
+    k_obs = 2.0 * (double)p.J_kg_m2 * (x - log(1.0 + x)) / (0.16 * 0.16) / (0.004 * 0.004);
+    expected = 1.0e4 * pow(k_obs / 1.0e4, (double)c.gain);
+    printf("  penetration 4 mrad at 10 rad/s: k_obs %.4g, k 1e4 -> %.4g N m/rad (expected %.4g)\n", k_obs, (double)il.k,
+           expected);
+    TV_CHECK_NEAR(il.k, expected, 1e-4 * expected);
+}
+
+static void test_no_learning_without_an_impact(void)
+{
+    tvm_params_t p = law_model();
+    const double on = (double)p.phi_closed_rad;
+    const double i = current_no_push(&p, on);
+    il_config_t c;
+    il_t il;
+    int k;
+    il_config_default(&c);
+    TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
+    /* slow: never armed */
+    for (k = 0; k < 50; ++k) {
+        TV_CHECK_EQ_INT(step(&il, &p, on + 0.001, i, -1.0, on + 0.001, -1.0), 0);
+    }
+    TV_CHECK_EQ_INT((int)il.phase, (int)IL_IDLE);
+    /* far from both stops: never armed */
+    TV_CHECK_EQ_INT(step(&il, &p, 0.6, i, -20.0, 0.6, -20.0), 0);
+    TV_CHECK_EQ_INT((int)il.phase, (int)IL_IDLE);
+    /* the plate comes to rest pressed into the stop: abandoned after contact_max samples */
+    TV_CHECK_EQ_INT(step(&il, &p, on + 0.004, i, -10.0, on + 0.004, -10.0), 0);
+    for (k = 0; k < (int)c.contact_max; ++k) {
+        TV_CHECK_EQ_INT(step(&il, &p, on - 0.0005, i, 0.0, on - 0.0005, 0.0), 0);
+    }
+    TV_CHECK_EQ_INT((int)il.phase, (int)IL_IDLE);
+    TV_CHECK_EQ_INT((int)il.n_abandoned, 1);
+    /* an invalid angle during an impact: abandoned */
+    TV_CHECK_EQ_INT(step(&il, &p, on + 0.004, i, -10.0, on + 0.004, -10.0), 0);
+    {
+        const tv_real_t x[TVM_NX] = {R(i), R(5.0), R(on)};
+        TV_CHECK_EQ_INT(il_step(&il, &p, R(on), 0, x, R(5.0)), 0);
+    }
+    TV_CHECK_EQ_INT((int)il.n_abandoned, 2);
+    /* braking before the stop, never reaching it: no contact seen, reversal after the first sample */
+    TV_CHECK_EQ_INT(step(&il, &p, on + 0.004, i, -4.0, on + 0.004, -4.0), 0);
+    TV_CHECK_EQ_INT(step(&il, &p, on + 0.002, i, -1.0, on + 0.002, -1.0), 0);
+    TV_CHECK_EQ_INT(step(&il, &p, on + 0.002, i, 0.5, on + 0.002, 0.5), 0);
+    TV_CHECK_EQ_INT((int)il.n_abandoned, 3);
+    TV_CHECK_EQ_INT((int)il.n_learned, 0);
+    TV_CHECK_NEAR(il.alpha, 0.16, 1e-6);
+    /* a Kelvin-Voigt model (stops never learned): never armed */
+    p.stop_exponent = R(0.0);
+    TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
+    TV_CHECK_EQ_INT(step(&il, &p, on + 0.004, i, -10.0, on + 0.004, -10.0), 0);
+    TV_CHECK_EQ_INT((int)il.phase, (int)IL_IDLE);
+    /* disabled: nothing */
+    p = law_model();
+    c.enable = 0u;
+    TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
+    TV_CHECK_EQ_INT(step(&il, &p, on + 0.004, i, -10.0, on + 0.004, -10.0), 0);
+    TV_CHECK_EQ_INT((int)il.phase, (int)IL_IDLE);
+}
+
+/* Unit 1014 of the population (stops spread): a stiff, nearly plastic stop (the plant's damping
+ * ratio 0.47 s/rad, restitution about 0.16 at 12 rad/s) that the start-up routine leaves at its
+ * stiffness bound with 0.16 s/rad. After stop learning, the paper's sine: the learning raises the
+ * damping and improves the velocity estimate. */
+static void test_in_the_application(void)
+{
+    static plant_config_t pc;
+    static app_config_t ac;
+    sim_options_t o;
+    sim_result_t r;
+    sim_result_t off;
+    TV_CHECK_EQ_INT(plant_draw(PLANT_CLASS_A, PLANT_SPREAD_STOPS, 1014u, &pc), TV_OK);
+    TV_CHECK_EQ_INT(sim_app_config_for_unit(PLANT_CLASS_A, &pc, &ac), TV_OK);
+    sim_options_default(&o);
+    o.scenario = SIM_SCN_STOP_LEARN;
+    o.plant = &pc;
+    o.app = &ac;
+    TV_CHECK_EQ_INT(sim_run(&o, &r), TV_OK);
+    TV_CHECK_EQ_INT(sim_apply_stop_learning(&r, &ac), TV_OK);
+    o.scenario = SIM_SCN_PAPER_SINE;
+    TV_CHECK_EQ_INT(sim_run(&o, &r), TV_OK);
+    ac.impact_learn.enable = 0u;
+    TV_CHECK_EQ_INT(sim_run(&o, &off), TV_OK);
+    printf("  unit 1014 paper sine: damping ratio %.3f -> %.3f s/rad after %lu impacts; velocity RMSE %.3f rad/s "
+           "(without the learning %.3f, differentiation %.3f)\n",
+           off.contact_alpha_s_rad, r.contact_alpha_s_rad, (unsigned long)r.impact_learned, r.rmse[SIM_EST_APP][TVM_W],
+           off.rmse[SIM_EST_APP][TVM_W], r.rmse[SIM_EST_MEASURED][TVM_W]);
+    TV_CHECK(r.impact_learned >= 3u);
+    TV_CHECK(r.contact_alpha_s_rad > 1.2 * off.contact_alpha_s_rad);
+    TV_CHECK(r.rmse[SIM_EST_APP][TVM_W] < 0.9 * off.rmse[SIM_EST_APP][TVM_W]);
+}
+
+int main(void)
+{
+    printf("impact learning (%s)\n", TV_REAL_IS_DOUBLE ? "double" : "float");
+    TV_TEST_RUN(test_configuration_is_validated);
+    TV_TEST_RUN(test_damping_follows_the_corrections);
+    TV_TEST_RUN(test_stiffness_from_a_resolved_penetration);
+    TV_TEST_RUN(test_no_learning_without_an_impact);
+    TV_TEST_RUN(test_in_the_application);
+    return tv_test_summary();
+}
