@@ -178,6 +178,7 @@ void check_config(const ekf_config_t& c, const tvref::Config& r)
             TV_CHECK_NEAR(c.Q[i][j], r.Q(i, j), 8.0 * kStoreTol * std::sqrt(r.Q(i, i) * r.Q(j, j)));
         }
     }
+    TV_CHECK_NEAR(c.qT_rel_s, r.qT_rel_s, kStoreTol * r.qT_rel_s);
 }
 
 void test_c_config_defaults_match_documentation()
@@ -646,6 +647,13 @@ void test_filter_current_angle_matches_reference()
     cc.qf_1_s = TV_R(0.0);
     cc.qm_1_s = TV_R(0.0);
     run_filter_case("current+angle", cc, tvref::config_default(p, tvref::Setup::CurrentAngle));
+    /* the model-torque noise (off by default), written out independently in the reference */
+    {
+        tvref::Config rc = tvref::config_default(p, tvref::Setup::CurrentAngle);
+        cc.qT_rel_s = TV_R(3e-5);
+        rc.qT_rel_s = 3e-5;
+        run_filter_case("current+angle, model-torque noise 3e-5 s", cc, rc);
+    }
 }
 
 void test_filter_paper_matches_reference()

@@ -106,6 +106,7 @@ static void test_contact_torque_state(void)
     int c;
     tvm_params_default(&p);
     ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
+    cfg.qT_rel_s = TV_R(0.0); /* the steps written out below have the constant Q only */
     cfg.qd_free_Nm2_s = 0.5;
     cfg.d_tau_s = 0.02;
     cfg.qr_ohm2_s = 0.3;
@@ -632,6 +633,61 @@ static void test_contact_inflation(void)
     }
 }
 
+/*
+ * Model-torque noise (ekf_config_t::qT_rel_s): one prediction from the same state and covariance
+ * with qT_rel_s = q must give the covariance of a filter whose plate torque density is
+ * qT + q T^2, T = |n Kt i| + Kv |w| written out here from the state before the step (that
+ * filter's Q built by ekf_q_from_spectral() from the larger density); q = 0 leaves it unchanged.
+ */
+static void test_model_torque_noise(void)
+{
+    tvm_params_t p;
+    ekf_config_t c0;
+    ekf_config_t cq;
+    ekf_config_t cref;
+    ekf_t f0;
+    ekf_t fq;
+    ekf_t fref;
+    const double q = 1e-5;
+    const double i0 = 1.5;
+    const double w0 = -8.0;
+    double T;
+    int a;
+    int b;
+    tvm_params_default(&p);
+    ekf_config_default(&c0, EKF_SETUP_CURRENT_ANGLE);
+    c0.qT_rel_s = TV_R(0.0);
+    c0.x0[0] = (tv_real_t)i0;
+    c0.x0[1] = (tv_real_t)w0;
+    c0.x0[2] = (tv_real_t)0.6;
+    cq = c0;
+    cq.qT_rel_s = (tv_real_t)q;
+    T = fabs((double)p.n_gear * (double)p.Kt_Nm_A * i0) + (double)p.Kv_Nm_s_rad * fabs(w0);
+    cref = c0;
+    TV_CHECK_EQ_INT(ekf_q_from_spectral(&p, EKF_DEFAULT_QU_V2_S, (tv_real_t)((double)EKF_DEFAULT_QT_NM2_S + q * T * T), cref.Q),
+                    TV_OK);
+    TV_CHECK_EQ_INT(ekf_init(&f0, &p, &c0), TV_OK);
+    TV_CHECK_EQ_INT(ekf_init(&fq, &p, &cq), TV_OK);
+    TV_CHECK_EQ_INT(ekf_init(&fref, &p, &cref), TV_OK);
+    TV_CHECK_EQ_INT(ekf_predict(&f0, (tv_real_t)6.0), TV_OK);
+    TV_CHECK_EQ_INT(ekf_predict(&fq, (tv_real_t)6.0), TV_OK);
+    TV_CHECK_EQ_INT(ekf_predict(&fref, (tv_real_t)6.0), TV_OK);
+    for (a = 0; a < 3; ++a) {
+        TV_CHECK(fq.x[a] == f0.x[a]); /* the mean does not change */
+        for (b = 0; b < 3; ++b) {
+            const double ref = (double)fref.P[a][b];
+            TV_CHECK_NEAR(fq.P[a][b], ref, fabs(ref) * (TV_REAL_IS_DOUBLE ? 1e-9 : 1e-4) + 1e-18);
+        }
+    }
+    printf("  model-torque noise: T = %.3f N m, P_ww %.4g -> %.4g (rad/s)^2\n", T, (double)f0.P[1][1], (double)fq.P[1][1]);
+    TV_CHECK(fq.P[1][1] > f0.P[1][1]);
+    /* out of range */
+    cq.qT_rel_s = (tv_real_t)-1e-6;
+    TV_CHECK_EQ_INT(ekf_init(&fq, &p, &cq), TV_ERR_CONFIG);
+    cq.qT_rel_s = (tv_real_t)2.0;
+    TV_CHECK_EQ_INT(ekf_init(&fq, &p, &cq), TV_ERR_CONFIG);
+}
+
 static void test_bad_input_is_rejected_and_state_unchanged(void)
 {
     const tv_real_t zero = TV_R(0.0);
@@ -1137,6 +1193,7 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_preload_error_state);
 #endif
     TV_TEST_RUN(test_contact_inflation);
+    TV_TEST_RUN(test_model_torque_noise);
     TV_TEST_RUN(test_converges_from_a_wrong_initial_state);
     if (s_soak_steps > 0) {
         TV_TEST_RUN(test_covariance_stays_symmetric_positive_definite);

@@ -151,6 +151,7 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->phi_max_rad = TV_R(2.5);
     cfg->contact_band_rad = EKF_DEFAULT_CONTACT_BAND_RAD;
     cfg->qc_Nm2_s = EKF_DEFAULT_QC_NM2_S;
+    cfg->qT_rel_s = EKF_DEFAULT_QT_REL_S;
     cfg->stop_learn_margin_rad = EKF_DEFAULT_STOP_LEARN_MARGIN_RAD;
     cfg->qd_contact_Nm2_s = EKF_DEFAULT_QD_CONTACT_NM2_S;
     cfg->qd_free_Nm2_s = EKF_DEFAULT_QD_FREE_NM2_S;
@@ -190,6 +191,7 @@ void ekf_config_paper(ekf_config_t *cfg)
     cfg->r[EKF_CH_ANGLE] = TV_R(1e-8);
     cfg->contact_band_rad = TV_R(0.0);
     cfg->qc_Nm2_s = TV_R(0.0);
+    cfg->qT_rel_s = TV_R(0.0);
     cfg->stop_learn_margin_rad = TV_R(0.0);
     cfg->qd_contact_Nm2_s = TV_R(0.0);
     cfg->qd_free_Nm2_s = TV_R(0.0);
@@ -243,7 +245,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !all_finite(cfg->var_floor, TVM_NX) || !all_finite(cfg->var_ceil, TVM_NX) ||
         !TV_IS_FINITE(cfg->u_abs_max_V) || !TV_IS_FINITE(cfg->i_abs_max_A) ||
         !TV_IS_FINITE(cfg->w_abs_max_rad_s) || !TV_IS_FINITE(cfg->phi_min_rad) ||
-        !TV_IS_FINITE(cfg->phi_max_rad) || !TV_IS_FINITE(cfg->contact_band_rad) || !TV_IS_FINITE(cfg->qc_Nm2_s) ||
+        !TV_IS_FINITE(cfg->phi_max_rad) || !TV_IS_FINITE(cfg->contact_band_rad) || !TV_IS_FINITE(cfg->qc_Nm2_s) || !TV_IS_FINITE(cfg->qT_rel_s) ||
         !TV_IS_FINITE(cfg->stop_learn_margin_rad) || !TV_IS_FINITE(cfg->qd_contact_Nm2_s) ||
         !TV_IS_FINITE(cfg->qd_free_Nm2_s) || !TV_IS_FINITE(cfg->d_tau_s) || !TV_IS_FINITE(cfg->d_var_ceil) ||
         !TV_IS_FINITE(cfg->contact_nis_gate) || !TV_IS_FINITE(cfg->qr_ohm2_s) ||
@@ -268,7 +270,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     }
     if (!(cfg->u_abs_max_V > TV_R(0.0)) || !(cfg->i_abs_max_A > TV_R(0.0)) ||
         !(cfg->w_abs_max_rad_s > TV_R(0.0)) || !(cfg->phi_max_rad > cfg->phi_min_rad) ||
-        cfg->contact_band_rad < TV_R(0.0) || cfg->contact_band_rad > TV_R(0.5) || cfg->qc_Nm2_s < TV_R(0.0) ||
+        cfg->contact_band_rad < TV_R(0.0) || cfg->contact_band_rad > TV_R(0.5) || cfg->qc_Nm2_s < TV_R(0.0) || cfg->qT_rel_s < TV_R(0.0) || cfg->qT_rel_s > TV_R(1.0) ||
         cfg->stop_learn_margin_rad < TV_R(0.0) || cfg->stop_learn_margin_rad > TV_R(0.5) ||
         cfg->qd_contact_Nm2_s < TV_R(0.0) || cfg->qd_free_Nm2_s < TV_R(0.0) || !(cfg->d_tau_s > TV_R(0.0)) ||
         !(cfg->d_var_ceil > TV_R(0.0)) || cfg->contact_nis_gate < TV_R(0.0) || cfg->qr_ohm2_s < TV_R(0.0) ||
@@ -305,6 +307,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     memcpy(ekf->P, cfg->P0, sizeof(mat3_t));
     /* the contact noise: a torque noise of density qc on the plate, nothing on the armature */
     (void)ekf_q_from_spectral(params, TV_R(0.0), cfg->qc_Nm2_s, ekf->Qc);
+    (void)ekf_q_from_spectral(params, TV_R(0.0), TV_R(1.0), ekf->Qt1);
     ekf->aug_on = cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0) || cfg->qr_ohm2_s > TV_R(0.0) ||
                   cfg->qf_1_s > TV_R(0.0) || cfg->qm_1_s > TV_R(0.0);
     ekf->g_cols = ((cfg->qd_contact_Nm2_s > TV_R(0.0) || cfg->qd_free_Nm2_s > TV_R(0.0)) ? 1u << TVM_A_TORQUE : 0u) |
@@ -427,7 +430,7 @@ static void aug_put(ekf_t *ekf, const aug_part_t *ap)
  *   Paa <- B Paa B + Qa Ts,  a <- B a.
  */
 static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX],
-                     tv_real_t G[TVM_NX][TVM_NA], int contact)
+                     tv_real_t G[TVM_NX][TVM_NA], int contact, tv_real_t qt)
 {
     mat3_t FP;
     mat3_t Pn;
@@ -507,6 +510,9 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
             if (add_qc) {
                 Pn[a][b] += ekf->Qc[a][b];
             }
+            if (qt > TV_R(0.0)) {
+                Pn[a][b] += qt * ekf->Qt1[a][b];
+            }
             if (ekf->aug_on && G != NULL) {
                 /* unused columns of FPa and G are 0: adding them is exact, and cheaper than a test */
                 Pn[a][b] += FPa[a][0] * G[b][0] + FPa[a][1] * G[b][1] + FPa[a][2] * G[b][2] + FPa[a][3] * G[b][3];
@@ -533,12 +539,30 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
     return TV_OK;
 }
 
+/*
+ * The model-torque noise density of this step, qT_rel_s T^2 [N^2 m^2 s] (ekf_config_t::qT_rel_s),
+ * from the state before the step: T = |n Kt i| + Kv |w|, the torques whose errors grow with the
+ * motion (motor constant and, through the motor torque that accelerates the plate, inertia;
+ * viscous friction). The springs' and Coulomb friction's errors are not in T: slowly varying,
+ * they are what the preload and friction states adapt to, and at low speed stiction absorbs them
+ * (with them in T the filter's sigma was 3x its error in slow motion: measured).
+ */
+static tv_real_t model_torque_noise(const ekf_t *ekf)
+{
+    tv_real_t T;
+    if (!(ekf->cfg.qT_rel_s > TV_R(0.0))) {
+        return TV_R(0.0);
+    }
+    T = TV_FABS(ekf->model.nKt_Nm_A * ekf->x[TVM_I]) + ekf->model.p.Kv_Nm_s_rad * TV_FABS(ekf->x[TVM_W]);
+    return ekf->cfg.qT_rel_s * T * T;
+}
+
 int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX])
 {
     if (ekf == NULL || x_pred == NULL || F == NULL) {
         return TV_ERR_NULL;
     }
-    return propagate(ekf, x_pred, F, NULL, 0);
+    return propagate(ekf, x_pred, F, NULL, 0, TV_R(0.0));
 }
 
 int ekf_predict(ekf_t *ekf, tv_real_t u_V)
@@ -567,7 +591,7 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
         const tv_real_t band = ekf->cfg.contact_band_rad;
         const int contact = band > TV_R(0.0) && (xn[TVM_PHI] < ekf->model.p.phi_closed_rad + band ||
                                                  xn[TVM_PHI] > ekf->model.p.phi_open_rad - band);
-        return propagate(ekf, xn, F, ekf->aug_on ? G : NULL, contact);
+        return propagate(ekf, xn, F, ekf->aug_on ? G : NULL, contact, model_torque_noise(ekf));
     }
 }
 

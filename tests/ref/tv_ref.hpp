@@ -309,6 +309,9 @@ struct Config {
     Eigen::Vector3d r = Eigen::Vector3d::Ones(); /**< measurement variances: current, velocity, angle */
     Eigen::Vector3d var_floor = Eigen::Vector3d::Zero();
     Eigen::Vector3d var_ceil = Eigen::Vector3d::Constant(1e300);
+    /** Model-torque noise (ekf.h ekf_config_t::qT_rel_s) [s]: the plate's torque density grows
+     *  by qT_rel_s T^2, T = |n Kt i| + Kv |w| of the state before the step. */
+    double qT_rel_s = 0.0;
 };
 
 /**
@@ -327,9 +330,11 @@ inline Eigen::Matrix3d q_from_spectral(const Params& p, double qu_V2_s, double q
     return Q;
 }
 
-/** Default noise densities documented in ekf.h (EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S). */
+/** Default noise densities documented in ekf.h (EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S,
+ *  EKF_DEFAULT_QT_REL_S). */
 const double kDefaultQu_V2_s = 5.0e-6;
 const double kDefaultQT_Nm2_s = 5.0e-6;
+const double kDefaultQTRel_s = 0.0;
 
 /** ekf_config_default() as documented in ekf.h. */
 inline Config config_default(const Params& p, Setup setup)
@@ -339,6 +344,7 @@ inline Config config_default(const Params& p, Setup setup)
     c.x0.setZero();
     c.P0 = Eigen::Vector3d(1.0, 100.0, 0.01).asDiagonal();
     c.Q = q_from_spectral(p, kDefaultQu_V2_s, kDefaultQT_Nm2_s);
+    c.qT_rel_s = kDefaultQTRel_s;
     c.r = Eigen::Vector3d(1.054e-4, 1.0, 2.668e-8);
     c.var_floor = Eigen::Vector3d::Constant(1e-12);
     c.var_ceil = Eigen::Vector3d(1e4, 1e6, 10.0);
@@ -384,14 +390,15 @@ public:
     {
         Eigen::Vector3d xn;
         const Eigen::Matrix3d F = jacobian_ad(p_, x_, u_V, &xn);
-        predict_with(F, xn);
+        const double T = std::fabs(p_.n_gear * p_.Kt_Nm_A * x_(0)) + p_.Kv_Nm_s_rad * std::fabs(x_(1));
+        predict_with(F, xn, c_.qT_rel_s * T * T);
     }
 
     /** The covariance part of predict with a given F and predicted state (no model evaluation). */
-    void predict_with(const Eigen::Matrix3d& F, const Eigen::Vector3d& x_pred)
+    void predict_with(const Eigen::Matrix3d& F, const Eigen::Vector3d& x_pred, double q_model_Nm2_s = 0.0)
     {
         x_ = x_pred;
-        P_ = F * P_ * F.transpose() + c_.Q;
+        P_ = F * P_ * F.transpose() + c_.Q + q_from_spectral(p_, 0.0, q_model_Nm2_s);
         symmetrise();
         apply_bounds();
     }
