@@ -182,7 +182,7 @@ static void test_no_learning_without_an_impact(void)
     int k;
     il_config_default(&c);
     TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
-    /* slow: never armed */
+    /* slow (below v_min_rad_s): never armed */
     for (k = 0; k < 50; ++k) {
         TV_CHECK_EQ_INT(step(&il, &p, on + 0.001, i, -1.0, on + 0.001, -1.0), 0);
     }
@@ -205,7 +205,7 @@ static void test_no_learning_without_an_impact(void)
     }
     TV_CHECK_EQ_INT((int)il.n_abandoned, 2);
     /* braking before the stop, never reaching it: no contact seen, reversal after the first sample */
-    TV_CHECK_EQ_INT(step(&il, &p, on + 0.004, i, -4.0, on + 0.004, -4.0), 0);
+    TV_CHECK_EQ_INT(step(&il, &p, on + 0.004, i, -((double)c.v_min_rad_s + 1.0), on + 0.004, -((double)c.v_min_rad_s + 1.0)), 0);
     TV_CHECK_EQ_INT(step(&il, &p, on + 0.002, i, -1.0, on + 0.002, -1.0), 0);
     TV_CHECK_EQ_INT(step(&il, &p, on + 0.002, i, 0.5, on + 0.002, 0.5), 0);
     TV_CHECK_EQ_INT((int)il.n_abandoned, 3);

@@ -14,13 +14,13 @@ void il_config_default(il_config_t *cfg)
         return;
     }
     cfg->enable = 1u;
-    cfg->v_min_rad_s = TV_R(3.0);
+    cfg->v_min_rad_s = TV_R(6.0);
     cfg->arm_margin_rad = TV_R(0.002);
     cfg->contact_max = 30u;
     cfg->settle = 3u;
     cfg->gain = TV_R(0.3);
-    cfg->alpha_min = TV_R(0.01);
-    cfg->alpha_max = TV_R(2.0);
+    cfg->alpha_min = TV_R(0.04);
+    cfg->alpha_max = TV_R(0.8);
     cfg->p_min_rad = TV_R(0.0015);
     cfg->k_sec_min = TV_R(100.0);
     cfg->k_sec_max = TV_R(1.0e4);
@@ -115,8 +115,8 @@ static int learn(il_t *il, const tvm_params_t *m)
     const tv_real_t e = m->stop_exponent;
     const tv_real_t g = il->cfg.gain;
     /* the estimator's velocity corrections over the impact and the settle samples after it,
-     * away from the stop: < 0 when the measurements kept taking speed the model's rebound had
-     * given (too little damping), > 0 when they added what its rebound lacked. alpha moves by
+     * away from the stop: < 0 when the measurements took speed the model's rebound had given
+     * (too little damping), > 0 when they added what its rebound lacked. alpha moves by
      * exp(-gain dw / v_in), bounded per impact to a factor of 2 either way. */
     step = -g * il->dw_sum / il->v_in;
     step = clampr(step, -TV_R(0.69314718055994531), TV_R(0.69314718055994531)); /* ln 2 */
@@ -183,6 +183,7 @@ int il_step(il_t *il, const tvm_params_t *model, tv_real_t phi_meas, int phi_val
         pen = q == 0 ? onset[0] - phi_meas : phi_meas - onset[1];
         toward = q == 0 ? -x[TVM_W] : x[TVM_W];
         il->push_sum += push_into(model, q, x);
+        il->dw_sum += q_away(il->stop, x[TVM_W] - w_prior);
         il->push_n += TV_R(1.0);
         if (pen > TV_R(0.0)) {
             ++il->n_contact;

@@ -35,8 +35,12 @@
  *   3. the impact is over when the estimate moves away from the stop and the measured angle is
  *      outside the onset (a contact seen, or a reversal within the first sample: no drive does
  *      that), and abandoned when the plate stays near the stop for contact_max samples (it
- *      rests) or never reaches it; over the impact and settle samples after it, the estimator's
- *      velocity corrections (posterior - prior) are summed as speed away from the stop: dw;
+ *      rests) or never reaches it; over the impact and the settle samples after it, the
+ *      estimator's velocity corrections (posterior - prior) are summed as speed away from the
+ *      stop: dw (the whole window: after a rebound the model lacked, the contact inflation
+ *      corrects first upward and then back down; the sum is the net error. The samples after the
+ *      impact alone were tried: their sign is the overshoot's, which drove a bouncy unit's
+ *      damping to the bound, measured on population unit 1007);
  *   4. alpha <- alpha exp(-gain dw / v_in) (at most a factor of 2 per impact), bounded to
  *      alpha_min .. alpha_max: corrections that keep taking away-speed the model's rebound gave
  *      mean too little damping; and, when p_max >= p_min_rad over at least two samples,
@@ -68,14 +72,17 @@ extern "C" {
 /** Configuration. Units SI. */
 typedef struct {
     uint8_t enable;          /**< 1: learn (default); 0: the law stays as given */
-    tv_real_t v_min_rad_s;   /**< least impact speed learned from, > 0; default 3 */
+    tv_real_t v_min_rad_s;   /**< least impact speed learned from, > 0; default 6 (a second, slow bounce
+                                  of a plate pushed back into the stop is not an impact of its own) */
     tv_real_t arm_margin_rad; /**< armed within |w| Ts + this of an onset, > 0; default 0.002 */
     uint16_t contact_max;    /**< samples near the stop after which the impact is abandoned, 2..1000; default 30 */
     uint16_t settle;         /**< samples after the impact before v_out is read, 1..20; default 3 */
     tv_real_t gain;          /**< log-domain low-pass gain per impact, (0, 1]; default 0.3 */
-    tv_real_t alpha_min;     /**< damping ratio bounds [s/rad], 0 < min < max; default 0.01 */
-    tv_real_t alpha_max;     /**< default 2 (the model's explicit sub-steps stay stable with the
-                                  damping this gives at the stiffness bound: test) */
+    tv_real_t alpha_min;     /**< damping ratio bounds [s/rad], 0 < min < max; default 0.04 */
+    tv_real_t alpha_max;     /**< default 0.8: restitution at a 10 rad/s impact from about 0.9 down
+                                  to 0.1, the span of throttle stops (host_sim/plant/plant_draw.h) with
+                                  a margin; within it the model's explicit sub-steps stay stable at the
+                                  stiffness bound */
     tv_real_t p_min_rad;     /**< least measured penetration for a stiffness update, > 0; default 0.0015 (3 counts) */
     tv_real_t k_sec_min;     /**< stiffness bounds as secant stiffness at IL_P_REF_RAD [N m/rad], 0 < min < max; default 100 */
     tv_real_t k_sec_max;     /**< default 1e4 (stop_learn.h's k_max: the model's contact stays stable) */

@@ -500,7 +500,7 @@ int main(int argc, char **argv)
         }
         fprintf(csv, "section,unit,class,scenario,seed,rmse_filter_rad_s,rmse_diff_rad_s,ratio,nees_avg,nees_window_max,"
                      "consistency_flagged,faults,dtc_confirmed,dtc_pending,dtc_first_s,duration_s,r_est_ohm,r_true_ohm,friction_rel,friction_rel_true,preload_rel,"
-                     "preload_rel_true,injected,dtc_codes\n");
+                     "preload_rel_true,contact_k,contact_exponent,contact_alpha_s_rad,impacts_learned,injected,dtc_codes\n");
     }
 
     /* the nominal unit of class A, the paper's experiment, seed 1, with the same --params */
@@ -616,6 +616,8 @@ int main(int argc, char **argv)
                                 (int)r.faults, (unsigned long)run->dtc, (unsigned long)run->dtc_pending, run->dtc_first_s);
                         fprintf(csv, "%.4f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,", r.duration_s - opt.warmup_s, r.r_est_ohm,
                                 r.r_true_ohm, r.friction_rel, r.friction_rel_true, r.preload_rel, r.preload_rel_true);
+                        fprintf(csv, "%.6g,%.6g,%.6g,%lu,", r.contact_k, r.contact_exponent, r.contact_alpha_s_rad,
+                                (unsigned long)r.impact_learned);
                         write_injected(csv);
                         write_dtc_codes(csv, &r);
                     }
