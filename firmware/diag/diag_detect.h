@@ -17,8 +17,9 @@
  *     open loop, app.c: the stop the voltage pushes toward, so a plate resting at that stop
  *     passes) is at least
  *     jam_error_rad from the estimated angle, the applied voltage pushes toward it with at least
- *     jam_u_min_V and at least jam_break_factor times the model's breakaway voltage u_break (the
- *     stall voltage whose torque equals preload + spring + static friction: below it a healthy
+ *     jam_u_min_V and at least jam_break_factor times the model's breakaway voltage u_break in the
+ *     push's direction (the stall voltage whose torque equals the static friction, plus the
+ *     preload and spring where they oppose the push: diag_jam_breakaway_Nm(); below it a healthy
  *     plate may rightly stay stuck), and the estimated angle moved less than jam_still_rad over the last
  *     DIAG_JAM_WINDOW samples: a failed check (P2112 when the target is above, i.e. commanded to
  *     open; P2111 below). Pushing and moving, or the target within jam_error_rad, passes.
