@@ -275,6 +275,17 @@ static void test_jam_and_open_winding_rules(void)
     diag_jam_check(&dd, &d, 0, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(1.9), &sn);
     diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(2.01), &sn); /* below 2x breakaway */
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2112), 0);
+    /* the breakaway in the push's direction: away from limp-home (u phi > 0) or within
+     * jam_limp_margin_rad of it the springs oppose (Ms + M0 + c |phi|); toward it from beyond the
+     * margin only Ms counts */
+    TV_CHECK_NEAR(diag_jam_breakaway_Nm(&dd, TV_R(4.0), TV_R(0.5), TV_R(0.3), TV_R(0.25), TV_R(0.06)), 0.58, 1e-6);
+    TV_CHECK_NEAR(diag_jam_breakaway_Nm(&dd, TV_R(-4.0), TV_R(-0.1), TV_R(0.3), TV_R(0.25), TV_R(0.06)), 0.556, 1e-6);
+    TV_CHECK_NEAR(diag_jam_breakaway_Nm(&dd, TV_R(-4.0), TV_R(0.5), TV_R(0.3), TV_R(0.25), TV_R(0.06)), 0.3, 1e-6);
+    TV_CHECK_NEAR(diag_jam_breakaway_Nm(&dd, TV_R(4.0), TV_R(-0.1), TV_R(0.3), TV_R(0.25), TV_R(0.06)), 0.3, 1e-6);
+    TV_CHECK_NEAR(diag_jam_breakaway_Nm(&dd, TV_R(-4.0), TV_R(0.04), TV_R(0.3), TV_R(0.25), TV_R(0.06)), 0.5524, 1e-6);
+    TV_CHECK_NEAR(diag_jam_breakaway_Nm(NULL, TV_R(-4.0), TV_R(0.5), TV_R(0.3), TV_R(0.25), TV_R(0.06)), 0.58, 1e-6);
+    c.jam_limp_margin_rad = TV_R(0.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_ERR_CONFIG);
     /* moving by >= 2 mrad over the window passes */
     fresh_detectors(&d, &dd, &c);
     for (k = 0; k < 100u; ++k) {

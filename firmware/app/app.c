@@ -634,9 +634,11 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
         app->diag_bridge_on = out->bridge_enable;
     }
     {
-        /* the model's breakaway voltage here: preload, spring and static friction at stall */
-        const tv_real_t u_break_V =
-            p->R_ohm * (p->M0_Nm + p->c_Nm_rad * TV_FABS(out->x[TVM_PHI]) + p->Ms_Nm) / (p->n_gear * p->Kt_Nm_A);
+        /* the model's breakaway voltage here in the push's direction: static friction, and the
+         * springs' preload and rate where they oppose the push (diag_jam_breakaway_Nm()) */
+        const tv_real_t u_break_V = p->R_ohm / (p->n_gear * p->Kt_Nm_A) *
+                                    diag_jam_breakaway_Nm(&app->ddet, app->u_applied_V, out->x[TVM_PHI], p->Ms_Nm, p->M0_Nm,
+                                                          p->c_Nm_rad);
         /* closed loop: the target; open loop (sine, steps, chirp): the stop the voltage pushes
          * toward, the farthest the plate can go that way (at that stop it rightly stays) */
         const int open_loop = c->mode == APP_MODE_SINE || c->mode == APP_MODE_STEPS || c->mode == APP_MODE_CHIRP;

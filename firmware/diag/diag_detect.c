@@ -21,6 +21,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->jam_u_min_V = TV_R(3.0);
     cfg->jam_break_factor = TV_R(2.0);
     cfg->jam_still_rad = TV_R(0.002);
+    cfg->jam_limp_margin_rad = TV_R(0.05);
     cfg->open_u_min_V = TV_R(3.0);
     cfg->open_i_max_A = TV_R(0.15);
     cfg->r_high_frac = TV_R(1.35);
@@ -72,7 +73,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     }
     {
         const tv_real_t all[] = {cfg->tps_disagree_rad, cfg->tps_vote_frac, cfg->jam_error_rad, cfg->jam_u_min_V,
-                                 cfg->jam_break_factor, cfg->jam_still_rad, cfg->open_u_min_V,  cfg->open_i_max_A,
+                                 cfg->jam_break_factor, cfg->jam_still_rad, cfg->jam_limp_margin_rad,
+                                 cfg->open_u_min_V,     cfg->open_i_max_A,
                                  cfg->r_high_frac,      cfg->r_low_frac,    cfg->r_sigma_max_frac,
                                  cfg->r_excite_A,       cfg->friction_high_rel, cfg->friction_sigma_max,
                                  cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
@@ -194,6 +196,23 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
     }
     code = e > TV_R(0.0) ? DIAG_DTC_P2112 : DIAG_DTC_P2111;
     (void)diag_report(d, code, TV_FABS(phi_est_rad - oldest) < dd->cfg.jam_still_rad ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(e));
+}
+
+tv_real_t diag_jam_breakaway_Nm(const diag_detect_t *dd, tv_real_t u_V, tv_real_t phi_rad, tv_real_t Ms_Nm, tv_real_t M0_Nm,
+                               tv_real_t c_Nm_rad)
+{
+    const tv_real_t aphi = TV_FABS(phi_rad);
+    if (dd == NULL) {
+        return Ms_Nm + M0_Nm + c_Nm_rad * aphi;
+    }
+    /* the springs push toward limp-home: a push away from it (u phi > 0), or any push within the
+     * margin around it (where the preload's sign turns and the estimate may sit on the wrong side),
+     * has them against it; a push toward limp-home from beyond the margin has them on its side,
+     * and their help is not counted (the units' preload spreads; the static friction stays) */
+    if (u_V * phi_rad > TV_R(0.0) || aphi < dd->cfg.jam_limp_margin_rad) {
+        return Ms_Nm + M0_Nm + c_Nm_rad * aphi;
+    }
+    return Ms_Nm;
 }
 
 int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T)

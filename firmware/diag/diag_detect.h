@@ -17,8 +17,9 @@
  *     open loop, app.c: the stop the voltage pushes toward, so a plate resting at that stop
  *     passes) is at least
  *     jam_error_rad from the estimated angle, the applied voltage pushes toward it with at least
- *     jam_u_min_V and at least jam_break_factor times the model's breakaway voltage u_break (the
- *     stall voltage whose torque equals preload + spring + static friction: below it a healthy
+ *     jam_u_min_V and at least jam_break_factor times the model's breakaway voltage u_break in the
+ *     push's direction (the stall voltage whose torque equals the static friction, plus the
+ *     preload and spring where they oppose the push: diag_jam_breakaway_Nm(); below it a healthy
  *     plate may rightly stay stuck), and the estimated angle moved less than jam_still_rad over the last
  *     DIAG_JAM_WINDOW samples: a failed check (P2112 when the target is above, i.e. commanded to
  *     open; P2111 below). Pushing and moving, or the target within jam_error_rad, passes.
@@ -165,6 +166,8 @@ typedef struct {
     tv_real_t jam_break_factor; /**< ... and at least this times the model's breakaway voltage [-], > 0; default 2
                                      (the population's friction, springs, R and Kt spread up to about 1.5x) */
     tv_real_t jam_still_rad;    /**< motion over DIAG_JAM_WINDOW samples below which the plate is still [rad], > 0; default 0.002 */
+    tv_real_t jam_limp_margin_rad; /**< diag_jam_breakaway_Nm(): within this of limp-home the springs count as
+                                     opposing any push [rad], > 0; default 0.05 (the preload's sign turns there) */
     tv_real_t open_u_min_V;     /**< |u| and |u - n Ke w| from which a current must flow [V], > 0; default 3 */
     tv_real_t open_i_max_A;     /**< |current| below which none flows [A], > 0; default 0.15 */
     tv_real_t r_high_frac;      /**< R + dR above this times R fails P2101 [-], > 1; default 1.35 (units
@@ -321,11 +324,30 @@ diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv
  * @param target_rad   the target in force [rad]
  * @param phi_est_rad  the estimated angle [rad]
  * @param u_V          the voltage applied toward the target [V]
- * @param u_break_V    the model's breakaway voltage at this angle [V] (R (M0 + c |phi| + Ms) / (n Kt))
+ * @param u_break_V    the model's breakaway voltage at this angle in the push's direction [V]
+ *                     (R / (n Kt) times diag_jam_breakaway_Nm())
  * @param snap         the step's snapshot (value in the freeze frame: |target - phi| [rad])
  */
 void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_rad, tv_real_t phi_est_rad, tv_real_t u_V,
                     tv_real_t u_break_V, const diag_snapshot_t *snap);
+
+/**
+ * The model's breakaway torque for the jam check's gate (u_break_V = R / (n Kt) times it): the
+ * static friction Ms, plus the springs' preload and rate M0 + c |phi| when they oppose the push
+ * (a push away from limp-home, u phi > 0, or any push within jam_limp_margin_rad of it). A push
+ * toward limp-home from beyond the margin has the springs on its side: their help is not counted
+ * (Ms alone), so a plate stuck short of a target nearer limp-home is judged from
+ * jam_break_factor R Ms / (n Kt) on (3.8 V at the nominal model, where the controller's bounded
+ * integral leaves it about 6 V at 0.04-0.05 rad of error) instead of from twice the
+ * spring-opposed breakaway (7-8 V, which it never applied there: README, jam).
+ * @param dd      the detector (its jam_limp_margin_rad); NULL: the spring-opposed value
+ * @param u_V     the voltage applied (its sign is the push's direction) [V]
+ * @param phi_rad the estimated angle [rad] (0 = limp-home)
+ * @param Ms_Nm, M0_Nm, c_Nm_rad  the model's static friction, preload and spring rate
+ * @return the breakaway torque [N m]
+ */
+tv_real_t diag_jam_breakaway_Nm(const diag_detect_t *dd, tv_real_t u_V, tv_real_t phi_rad, tv_real_t Ms_Nm, tv_real_t M0_Nm,
+                               tv_real_t c_Nm_rad);
 
 /**
  * The open-winding and bridge-direction check (see the file comment); reports P2100 and P1A03
