@@ -20,20 +20,13 @@
 #include "sim_unit.h"
 #include "tv_status.h"
 #include "tv_test.h"
+#include "hc_law_model.h"
 
 #define R(x) ((tv_real_t)(x))
 
 /* A model with a learned Hunt-Crossley law: k = 1e4 N m/rad, e = 1, d = 0.16 k; closed stop
  * -0.100, open 1.366 rad (the defaults). */
-static tvm_params_t law_model(void)
-{
-    tvm_params_t p;
-    tvm_params_default(&p);
-    p.k_stop_Nm_rad = R(1.0e4);
-    p.stop_exponent = R(1.0);
-    p.d_stop_Nm_s_rad = R(0.16 * 1.0e4);
-    return p;
-}
+static tvm_params_t law_model(void) { return hc_law_model(1.0e4, 1.0); }
 
 /* The current that makes the model's net torque into the closed stop zero at angle phi < 0
  * (motor = springs: n Kt i = -M0 + c phi), so that the penetration relation has no push term. */

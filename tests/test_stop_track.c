@@ -18,20 +18,13 @@
 #include "stop_track.h"
 #include "tv_status.h"
 #include "tv_test.h"
+#include "hc_law_model.h"
 
 /* a literal or a double in the build's real type */
 #define R(x) ((tv_real_t)(x))
 
 /* A model with a learned Hunt-Crossley law (k = 5,000 N m/rad^1.25, e = 1.25). */
-static tvm_params_t law_model(void)
-{
-    tvm_params_t p;
-    tvm_params_default(&p);
-    p.k_stop_Nm_rad = R(5000.0);
-    p.stop_exponent = R(1.25);
-    p.d_stop_Nm_s_rad = R(0.16 * 5000.0);
-    return p;
-}
+static tvm_params_t law_model(void) { return hc_law_model(5000.0, 1.25); }
 
 /* The current that makes the net torque into stop `side` (+1 open, -1 closed) equal push_Nm at
  * angle phi, from the model's springs written out here. */

@@ -46,6 +46,17 @@ int il_config_check(const il_config_t *cfg)
     return TV_OK;
 }
 
+/* The per-impact accumulators at 0 (a new impact, or none). */
+static void impact_restart(il_t *il)
+{
+    il->n = 0u;
+    il->n_contact = 0u;
+    il->p_max = TV_R(0.0);
+    il->push_sum = TV_R(0.0);
+    il->push_n = TV_R(0.0);
+    il->dw_sum = TV_R(0.0);
+}
+
 int il_reset(il_t *il, const il_config_t *cfg, const tvm_params_t *model)
 {
     int rc;
@@ -62,13 +73,8 @@ int il_reset(il_t *il, const il_config_t *cfg, const tvm_params_t *model)
     il->cfg = *cfg;
     il->phase = IL_IDLE;
     il->stop = 0u;
-    il->n = 0u;
-    il->n_contact = 0u;
     il->v_in = TV_R(0.0);
-    il->p_max = TV_R(0.0);
-    il->push_sum = TV_R(0.0);
-    il->push_n = TV_R(0.0);
-    il->dw_sum = TV_R(0.0);
+    impact_restart(il);
     il->k = model->k_stop_Nm_rad;
     il->alpha = model->d_stop_Nm_s_rad / model->k_stop_Nm_rad;
     il->r_last = TV_R(0.0);
@@ -167,12 +173,7 @@ int il_step(il_t *il, const tvm_params_t *model, tv_real_t phi_meas, int phi_val
                 il->phase = IL_ARMED;
                 il->stop = (uint8_t)q;
                 il->v_in = toward;
-                il->n = 0u;
-                il->n_contact = 0u;
-                il->p_max = TV_R(0.0);
-                il->push_sum = TV_R(0.0);
-                il->push_n = TV_R(0.0);
-                il->dw_sum = TV_R(0.0);
+                impact_restart(il);
                 break;
             }
         }
