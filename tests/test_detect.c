@@ -730,8 +730,9 @@ static int probe_step(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, int k
  * (the closing reading a = 0.3, above probe_trigger; the estimator's levels meanwhile pulled to
  * 0.5 and 1.4) and a plate at rest: a probe starts at the first step at rest, asking for the
  * levels from BEFORE the suspicion: 1.0 x 0.25 + 0.65 x 1.1 x 0.2 + 0.059 x 0.35 = 0.41365 N m;
- * a plate that moves 1.5 mrad away from limp-home fails P1A02 once per probe, and the 5th such
- * probe confirms it (freeze value 1 - a = 0.7); a plate that stays for DIAG_PROBE_MAX_STEPS
+ * a plate that moves 1.8 mrad (at least probe_move_rad) away from limp-home fails P1A02 once per
+ * probe, and the 5th such probe confirms it (freeze value 1 - a = 0.7); a plate that stays for
+ * DIAG_PROBE_MAX_STEPS
  * steps gives no verdict and ends the suspicion (no further probe); not allowed: no probe. */
 static void test_spring_probe(void)
 {
@@ -774,11 +775,11 @@ static void test_spring_probe(void)
     TV_CHECK_EQ_INT(n, 1);
     TV_CHECK_EQ_INT(k, 251 + (int)DIAG_JAM_WINDOW); /* the first step whose 8-sample window is still */
     TV_CHECK_NEAR(T, 0.25 + 0.65 * 1.1 * 0.2 + 0.059 * 0.35, 1e-5);
-    /* five probes that each move the plate 1.5 mrad (in 3 steps) confirm P1A02 at the 5th */
+    /* five probes that each move the plate 1.8 mrad (in 3 steps) confirm P1A02 at the 5th */
     while (fails < 5 && k < 2000) {
         int p;
         for (p = 0; p < 3; ++p, ++k) {
-            phi += TV_R(0.0005);
+            phi += TV_R(0.0006);
             (void)probe_step(&dd, &d, &snap, k, 1, phi, TV_R(0.5), TV_R(1.4), &T);
         }
         ++fails;
