@@ -59,6 +59,20 @@
  *     friction_fast_level_min). Judged only when fed within DIAG_TORQUE_FRESH steps, with enough
  *     weight, non-collinear regressors (torque_corr_max), small sigmas of f and m, and no
  *     motor-circuit or jam code (P2100, P2101, P1A01, P2111, P2112) pending or confirmed.
+ *   SPRING PROBE (behind P1A02, a plate that holds): the signature's samples moving toward
+ *     limp-home are also summed alone; there a weaker spring and more friction both leave a torque
+ *     away from limp-home (collinear: the signature does not judge them). When their reading
+ *     a = sum(s y) / sum(s s) reaches probe_trigger (over probe_min_weight decayed samples) and
+ *     the plate then rests (the estimate moved less than 0.2 probe_move_rad over the jam window,
+ *     |w| < 0.05 rad/s) where the caller allows it, diag_spring_probe() asks the caller to apply
+ *     the model's spring torque M0 (1 + m) sp(phi) + c phi plus probe_friction_frac of its sliding
+ *     friction (1 + f) Mc, away from limp-home, for up to DIAG_PROBE_MAX_STEPS steps (1 + m and
+ *     1 + f as they were before the suspicion: the fault pulls them while it is seen). A healthy
+ *     plate stays (its static friction is at least its sliding friction), more friction holds it
+ *     harder; without its spring it moves: probe_move_rad away from limp-home is one failed
+ *     check of P1A02 (value 1 - a) and ends the probe; the next starts when the plate rests again.
+ *     A probe that holds gives no verdict and ends the suspicion, as do DIAG_PROBE_MAX_N moving
+ *     probes. While probes have moved the plate, diag_param_check() does not pass P1A02.
  *   BRIDGE DIRECTION LOST (P1A03), in the open-winding check's samples (same gate): the terminal
  *     voltage the measured current implies, v = e + (i1 - a_T i0) / b_T (e = n Ke times the
  *     differentiated measured angle, the one the estimator gets: the estimate's velocity can be
