@@ -796,6 +796,39 @@ static void test_spring_probe(void)
     TV_CHECK(diag_confirmed(&d, DIAG_DTC_P1A02));
     TV_CHECK_NEAR(d.code[DIAG_DTC_P1A02].freeze.value, 0.7, 1e-4);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P2119) && !diag_confirmed(&d, DIAG_DTC_P2119));
+    /* one moving probe (P1A02 pending), then healthy closing motion: once the reading falls below
+     * probe_trigger the sequence is over and the adapted level passes P1A02 again (one check of
+     * DIAG_PARAM_DECIM calls leaks the counter back to 0) */
+    diag_init(&d);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    for (k = 0; k < 50; ++k) {
+        feed_closing(&dd, &d, &snap, k, TV_R(0.3) * TV_R(0.28));
+    }
+    phi = TV_R(0.35);
+    n = 0;
+    for (k = 50; k < 80 && n == 0; ++k) {
+        n = probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 1);
+    for (n = 0; n < 3; ++n, ++k) {
+        phi += TV_R(0.0006);
+        (void)probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK(diag_pending(&d, DIAG_DTC_P1A02) && dd.probe_n == 1u);
+    for (n = 0; n < (int)DIAG_PARAM_DECIM; ++n) {
+        diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.0), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
+    }
+    TV_CHECK(diag_pending(&d, DIAG_DTC_P1A02)); /* the sequence decides: no pass */
+    for (n = 0; n < 400; ++n, ++k) {
+        feed_closing(&dd, &d, &snap, k, TV_R(0.0));
+    }
+    TV_CHECK(dd.cl_sy < cfg.probe_trigger * dd.cl_ss);
+    TV_CHECK_EQ_INT(probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T), 0);
+    TV_CHECK_EQ_INT(dd.probe_n, 0);
+    for (n = 0; n < (int)DIAG_PARAM_DECIM; ++n) {
+        diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.0), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
+    }
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
     /* the same suspicion (more friction also reads so in closing) on a plate that holds: no
      * verdict after DIAG_PROBE_MAX_STEPS steps, and the suspicion ends */
     diag_init(&d);

@@ -623,6 +623,7 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
             dd->probe_fric_ref = friction_rel;
         }
         dd->probe_t = 0u;
+        dd->probe_n = 0u; /* a sequence whose suspicion faded is over (P1A02 may pass again) */
         return 0;
     }
     if (!allowed || !TV_IS_FINITE(phi_rad) || !TV_IS_FINITE(w_rad_s) || !TV_IS_FINITE(preload_Nm) ||
