@@ -635,9 +635,9 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
     if (dd->probe_t > 0u) {
         const tv_real_t moved = dir * (phi_rad - dd->probe_phi0);
         if (moved >= dd->cfg.probe_move_rad || dd->probe_t >= DIAG_PROBE_MAX_STEPS) {
-            /* moved away from limp-home under the model's spring torque plus a fraction of the static
-             * friction: the spring is not there (more friction only holds it harder); held: no
-             * evidence, the suspicion ends (a friction fault, or a spring that holds) */
+            /* moved away from limp-home under the model's spring torque plus a fraction of the
+             * sliding friction: the spring is not there (more friction only holds it harder); held:
+             * no evidence, the suspicion ends (a friction fault, or a spring that holds) */
             const tv_real_t pre = TV_R(1.0) - dd->cl_sy / dd->cl_ss;
             dd->probe_t = 0u;
             if (moved >= dd->cfg.probe_move_rad) {

@@ -59,9 +59,10 @@
  *     friction_fast_level_min). Judged only when fed within DIAG_TORQUE_FRESH steps, with enough
  *     weight, non-collinear regressors (torque_corr_max), small sigmas of f and m, and no
  *     motor-circuit or jam code (P2100, P2101, P1A01, P2111, P2112) pending or confirmed.
- *   SPRING PROBE (behind P1A02, a plate that holds): the signature's samples moving toward
- *     limp-home are also summed alone; there a weaker spring and more friction both leave a torque
- *     away from limp-home (collinear: the signature does not judge them). When their reading
+ *   SPRING PROBE (behind P1A02, a plate that holds): the signature's closing samples (w < 0: it
+ *     is fed above limp-home only, toward it) are also summed alone; there a weaker spring and
+ *     more friction both leave a torque away from limp-home (collinear: the signature does not
+ *     judge them). When their reading
  *     a = sum(s y) / sum(s s) reaches probe_trigger (over probe_min_weight decayed samples) and
  *     the plate then rests (the estimate moved less than 0.2 probe_move_rad over the jam window,
  *     |w| < 0.05 rad/s) where the caller allows it, diag_spring_probe() asks the caller to apply
