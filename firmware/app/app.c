@@ -631,6 +631,26 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
                 diag_probe_done(&app->ddet);
             }
         }
+        if (c->mode == APP_MODE_POSITION && out->bridge_enable && was_on && action == DIAG_ACTION_NONE && tq_ok &&
+            app->ddet.cl_w > TV_R(0.0)) {
+            /* the spring probe: a plate held after closing motion that read as a weak spring or as
+             * more friction gets the model's spring torque plus 0.65 of its sliding friction (the
+             * adapted levels from before the suspicion) for a few periods, through the adapted
+             * resistance (a healthy plate, or one with more friction, stays: its static friction is
+             * at least the sliding one; one without its spring moves away from limp-home) */
+            const tv_real_t phi = out->x[TVM_PHI];
+            tv_real_t torque = TV_R(0.0);
+            const int away = phi > out->stop_closed_rad + APP_TQ_STOP_MARGIN_RAD &&
+                             phi < out->stop_open_rad - APP_TQ_STOP_MARGIN_RAD && TV_FABS(phi) > APP_TQ_LIMP_MARGIN_RAD &&
+                             !st_model_in_doubt(&app->st) && c->mode != APP_MODE_STOP_LEARN;
+            if (diag_spring_probe(&app->ddet, &app->diag, away, phi, out->x[TVM_W], p->M0_Nm, p->c_Nm_rad * phi, p->Mc_Nm,
+                                  out->preload_rel, out->friction_rel, &torque, snap)) {
+                const tv_real_t dl = c->duty_limit;
+                const tv_real_t u = out->r_est_ohm * torque / (p->n_gear * p->Kt_Nm_A) + p->n_gear * p->Ke_V_s_rad * out->x[TVM_W];
+                out->duty = (float)clamp(u / out->supply_V, -dl, dl);
+                app->u_applied_V = (tv_real_t)out->duty * out->supply_V;
+            }
+        }
         app->diag_bridge_on = out->bridge_enable;
     }
     {

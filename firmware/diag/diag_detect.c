@@ -52,6 +52,10 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->friction_fast_level_min = TV_R(1.3);
     cfg->preload_fast_friction_max = TV_R(2.0);
     cfg->friction_fast_preload_min = TV_R(0.8);
+    cfg->probe_trigger = TV_R(0.1);
+    cfg->probe_min_weight = TV_R(15.0);
+    cfg->probe_friction_frac = TV_R(0.65);
+    cfg->probe_move_rad = TV_R(0.0015);
     cfg->param_slow_hold = 95u;
 }
 
@@ -84,7 +88,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->torque_tau_samples, cfg->torque_min_weight, cfg->torque_corr_max,
                                  cfg->torque_clip_Nm,   cfg->torque_w_min_rad_s, cfg->torque_move_min_rad, cfg->torque_accel_max_Nm,
                                  cfg->preload_fast_low, cfg->friction_fast_high, cfg->friction_fast_preload_min,
-                                 cfg->friction_fast_level_min, cfg->preload_fast_friction_max};
+                                 cfg->friction_fast_level_min, cfg->preload_fast_friction_max,
+                                 cfg->probe_trigger, cfg->probe_min_weight, cfg->probe_friction_frac, cfg->probe_move_rad};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -99,12 +104,15 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0)) ||
         !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) ||
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
-        !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u) {
+        !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u ||
+        !(cfg->probe_friction_frac < TV_R(1.0))) {
         return TV_ERR_CONFIG;
     }
     memset(dd, 0, sizeof *dd);
     dd->cfg = *cfg;
     dd->tq_lam = TV_R(1.0) - TV_R(1.0) / cfg->torque_tau_samples;
+    dd->probe_pre_ref = TV_R(1.0);
+    dd->probe_fric_ref = TV_R(1.0);
 
 
     return TV_OK;
@@ -399,6 +407,13 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
     dd->tq_ff = lam * dd->tq_ff + xf * xf;
     dd->tq_sy = lam * dd->tq_sy + spring_Nm * y;
     dd->tq_fy = lam * dd->tq_fy + xf * y;
+    if (w_rad_s < TV_R(0.0)) {
+        /* closing alone: a weaker spring and more friction both leave a positive torque (collinear),
+         * the spring probe tells them apart */
+        dd->cl_w = lam * dd->cl_w + TV_R(1.0);
+        dd->cl_ss = lam * dd->cl_ss + spring_Nm * spring_Nm;
+        dd->cl_sy = lam * dd->cl_sy + spring_Nm * y;
+    }
 }
 
 /* The torque signature (file comment): solves the 2x2 normal equations of the decayed sums for
@@ -493,6 +508,9 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, pf);
         } else if (slow && dd->slow_m_run >= dd->cfg.param_slow_hold) {
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, preload_rel);
+        } else if (dd->probe_n > 0u) {
+            /* a spring probe has moved the plate: its sequence decides (the PID's pull back after
+             * each probe is motion whose adapted level or signature would pass meanwhile) */
         } else if (slow && preload_rel >= dd->cfg.preload_low_rel) {
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_PASS, snap, preload_rel);
         } else if (fast && pf >= dd->cfg.preload_fast_low) {
@@ -606,4 +624,69 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
         (void)diag_report(d, DIAG_DTC_P1A04, r, snap, bias);
         dd->isens_n = 0u;
     }
+}
+
+int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_rad, tv_real_t w_rad_s, tv_real_t preload_Nm,
+                      tv_real_t rate_Nm, tv_real_t friction_Nm, tv_real_t preload_rel, tv_real_t friction_rel,
+                      tv_real_t *torque_Nm, const diag_snapshot_t *snap)
+{
+    tv_real_t dir;
+    if (dd == NULL || d == NULL || snap == NULL || torque_Nm == NULL) {
+        return 0;
+    }
+    /* nothing suspected: the common case, one comparison */
+    if (!(dd->cl_w >= dd->cfg.probe_min_weight) || !(dd->cl_sy >= dd->cfg.probe_trigger * dd->cl_ss)) {
+        /* the adapted levels as they are before a suspicion (the fault pulls them while it is seen) */
+        if (TV_IS_FINITE(preload_rel) && TV_IS_FINITE(friction_rel)) {
+            dd->probe_pre_ref = preload_rel;
+            dd->probe_fric_ref = friction_rel;
+        }
+        dd->probe_t = 0u;
+        dd->probe_n = 0u; /* a sequence whose suspicion faded is over (P1A02 may pass again) */
+        return 0;
+    }
+    if (!allowed || !TV_IS_FINITE(phi_rad) || !TV_IS_FINITE(w_rad_s) || !TV_IS_FINITE(preload_Nm) ||
+        !TV_IS_FINITE(rate_Nm) || !TV_IS_FINITE(friction_Nm) || mechanics_inhibited(d)) {
+        dd->probe_t = 0u;
+        return 0;
+    }
+    dir = phi_rad > TV_R(0.0) ? TV_R(1.0) : TV_R(-1.0); /* the spring's pull toward limp-home is against dir */
+    if (dd->probe_t > 0u) {
+        const tv_real_t moved = dir * (phi_rad - dd->probe_phi0);
+        if (moved >= dd->cfg.probe_move_rad || dd->probe_t >= DIAG_PROBE_MAX_STEPS) {
+            /* moved away from limp-home under the model's spring torque plus a fraction of the
+             * sliding friction: the spring is not there (more friction only holds it harder); held:
+             * no evidence, the suspicion ends (a friction fault, or a spring that holds) */
+            const tv_real_t pre = TV_R(1.0) - dd->cl_sy / dd->cl_ss;
+            dd->probe_t = 0u;
+            if (moved >= dd->cfg.probe_move_rad) {
+                (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, pre);
+                if (++dd->probe_n < DIAG_PROBE_MAX_N) {
+                    return 0;
+                }
+            }
+            dd->probe_n = 0u;
+            dd->cl_w = TV_R(0.0);
+            dd->cl_ss = TV_R(0.0);
+            dd->cl_sy = TV_R(0.0);
+            return 0;
+        }
+        ++dd->probe_t;
+        *torque_Nm = dd->probe_T;
+        return 1;
+    }
+    {
+        /* a plate at rest (the jam check's window: the newest angle against the oldest) */
+        const tv_real_t newest = dd->phi_hist[(dd->hist_i + DIAG_JAM_WINDOW - 1u) % DIAG_JAM_WINDOW];
+        if (dd->hist_n < DIAG_JAM_WINDOW || TV_FABS(newest - dd->phi_hist[dd->hist_i]) >= TV_R(0.2) * dd->cfg.probe_move_rad ||
+            TV_FABS(w_rad_s) >= TV_R(0.05)) {
+            return 0;
+        }
+    }
+    dd->probe_phi0 = phi_rad;
+    dd->probe_T = dir * (dd->probe_pre_ref * preload_Nm + dd->cfg.probe_friction_frac * dd->probe_fric_ref * friction_Nm) +
+                  rate_Nm;
+    dd->probe_t = 1u;
+    *torque_Nm = dd->probe_T;
+    return 1;
 }

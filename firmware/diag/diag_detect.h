@@ -60,6 +60,21 @@
  *     friction_fast_level_min). Judged only when fed within DIAG_TORQUE_FRESH steps, with enough
  *     weight, non-collinear regressors (torque_corr_max), small sigmas of f and m, and no
  *     motor-circuit or jam code (P2100, P2101, P1A01, P2111, P2112) pending or confirmed.
+ *   SPRING PROBE (behind P1A02, a plate that holds): the signature's closing samples (w < 0: it
+ *     is fed above limp-home only, toward it) are also summed alone; there a weaker spring and
+ *     more friction both leave a torque away from limp-home (collinear: the signature does not
+ *     judge them). When their reading
+ *     a = sum(s y) / sum(s s) reaches probe_trigger (over probe_min_weight decayed samples) and
+ *     the plate then rests (the estimate moved less than 0.2 probe_move_rad over the jam window,
+ *     |w| < 0.05 rad/s) where the caller allows it, diag_spring_probe() asks the caller to apply
+ *     the model's spring torque M0 (1 + m) sp(phi) + c phi plus probe_friction_frac of its sliding
+ *     friction (1 + f) Mc, away from limp-home, for up to DIAG_PROBE_MAX_STEPS steps (1 + m and
+ *     1 + f as they were before the suspicion: the fault pulls them while it is seen). A healthy
+ *     plate stays (its static friction is at least its sliding friction), more friction holds it
+ *     harder; without its spring it moves: probe_move_rad away from limp-home is one failed
+ *     check of P1A02 (value 1 - a) and ends the probe; the next starts when the plate rests again.
+ *     A probe that holds gives no verdict and ends the suspicion, as do DIAG_PROBE_MAX_N moving
+ *     probes. While probes have moved the plate, diag_param_check() does not pass P1A02.
  *   BRIDGE DIRECTION LOST (P1A03), in the open-winding check's samples (same gate): the terminal
  *     voltage the measured current implies, v = e + (i1 - a_T i0) / b_T (e = n Ke times the
  *     differentiated measured angle, the one the estimator gets: the estimate's velocity can be
@@ -236,6 +251,15 @@ typedef struct {
                                        healthy unit whose viscous or Stribeck friction differs from the
                                        model's reads a high signature at speed while 1 + f stays near 1.2:
                                        measured, class b unit 1010 of all_varied in chirp and the 12 V sine) */
+    tv_real_t probe_trigger;      /**< SPRING PROBE: the closing-only reading a = sum(s y) / sum(s s) (s the
+                                       model's spring torque, y the unexplained torque, closing samples of the
+                                       signature) from which a held plate is probed [-], > 0; default 0.4 */
+    tv_real_t probe_min_weight;   /**< ... once the closing samples' weight (decayed count) is at least this
+                                       [samples], > 0; default 15 (a full-range step feeds some 30) */
+    tv_real_t probe_friction_frac; /**< the probe's torque above the model's spring, as a fraction of the
+                                       adapted sliding friction (1 + f) Mc [-], (0, 1); default 0.5 */
+    tv_real_t probe_move_rad;     /**< the plate's motion away from limp-home within a probe that fails
+                                       P1A02 [rad], > 0; default 0.0015 */
     uint16_t param_slow_hold;     /**< the adapted levels (1 + f, 1 + m) fail only once beyond their bounds for
                                        this many checks in a row [checks], > 0; default 95 (with the codes'
                                        confirmation counts about the former 100 checks = 1 s of motion) */
@@ -276,6 +300,15 @@ typedef struct {
     uint16_t tq_age;       /**< diag_param_check() calls since the signature was last fed (saturating) */
     uint16_t slow_f_run;   /**< consecutive checks with 1 + f above friction_high_rel */
     uint16_t slow_m_run;   /**< consecutive checks with 1 + m below preload_low_rel */
+    tv_real_t cl_w;        /**< spring probe: decayed count of the signature's closing samples, */
+    tv_real_t cl_ss;       /**<   their spring regressor squared, */
+    tv_real_t cl_sy;       /**<   spring regressor x unexplained torque */
+    tv_real_t probe_phi0;  /**< the angle at the probe's start [rad] */
+    tv_real_t probe_T;     /**< the probe's torque [N m] */
+    tv_real_t probe_pre_ref;  /**< the estimator's 1 + m while nothing was suspected [-] */
+    tv_real_t probe_fric_ref; /**< the estimator's 1 + f while nothing was suspected [-] */
+    uint8_t probe_t;       /**< steps into the running probe (0: none running) */
+    uint8_t probe_n;       /**< probes that moved the plate since the suspicion was raised */
 } diag_detect_t;
 
 /** Defaults (see diag_detect_config_t). Does nothing when cfg is NULL. */
@@ -449,6 +482,35 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
  */
 void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
                       tv_real_t spring_Nm, tv_real_t friction_Nm);
+
+/** Steps a spring probe lasts at most (the plate held: no evidence). */
+#define DIAG_PROBE_MAX_STEPS 15u
+/** Probes that moved the plate after which the suspicion is dropped (P1A02 confirmed or not). */
+#define DIAG_PROBE_MAX_N 8u
+
+/**
+ * The spring probe (see the file comment); reports P1A02. Call once per step after the control
+ * law, before diag_param_check().
+ * @param allowed      1 in closed loop with the bridge driving, no code in force, the model in
+ *                     service, the plate away from the stops and from limp-home (the caller's
+ *                     margins): a probe may run; 0 ends a running probe (no verdict)
+ * @param phi_rad      the estimated angle [rad]
+ * @param w_rad_s      the estimated velocity [rad/s]
+ * @param preload_Nm   the model's preload torque M0 (unadapted, > 0) [N m]
+ * @param rate_Nm      the model's spring-rate torque at the angle, c phi [N m]
+ * @param friction_Nm  the model's sliding friction Mc (unadapted) [N m] (a unit's static friction is at
+ *                     least its sliding one, whatever its Stribeck drop)
+ * @param preload_rel  the estimator's preload level 1 + m, and
+ * @param friction_rel its friction level 1 + f [-]: kept while nothing is suspected, the probe uses
+ *                     the levels from before the suspicion (the fault pulls them while it is seen)
+ * @param torque_Nm    receives the motor torque to apply over the next period while a probe runs
+ * @param snap         the step's snapshot (value in the freeze frame: the closing reading's preload
+ *                     1 - a [-])
+ * @return 1 when the caller applies *torque_Nm instead of its control law for the next period; 0 not
+ */
+int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_rad, tv_real_t w_rad_s,
+                      tv_real_t preload_Nm, tv_real_t rate_Nm, tv_real_t friction_Nm, tv_real_t preload_rel,
+                      tv_real_t friction_rel, tv_real_t *torque_Nm, const diag_snapshot_t *snap);
 
 #ifdef __cplusplus
 }
