@@ -72,7 +72,7 @@ echo "fault matrix: ${#specs[@]} fault specs + healthy, ${plants} units x 2 sect
 run_spec() { # spec ('healthy' for none)
   local s=$1 f=()
   [[ $s == healthy ]] || f=(--fault "$s@$ONSET")
-  "$pop" "${common[@]}" "${f[@]}" --runs-csv "$dir/runs/$s.csv" >/dev/null 2>"$dir/runs/$s.log" ||
+  "$pop" "${common[@]}" "${f[@]}" --runs-csv "$dir/runs/$s.csv" --json "$dir/runs/$s.json" >/dev/null 2>"$dir/runs/$s.log" ||
     { echo "run_fault_matrix.sh: population failed for $s (log: $dir/runs/$s.log)" >&2; return 1; }
   echo "  done: $s" >&2
 }
