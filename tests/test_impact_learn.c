@@ -71,6 +71,7 @@ static void test_configuration_is_validated(void)
     il_config_default(&c);
     TV_CHECK_EQ_INT(il_config_check(&c), TV_OK);
     TV_CHECK_EQ_INT(il_config_check(NULL), TV_ERR_NULL);
+    c.enable = 1u; /* the cases below exercise the learning */
     c.gain = R(0.0);
     TV_CHECK_EQ_INT(il_config_check(&c), TV_ERR_CONFIG);
     il_config_default(&c);
@@ -96,6 +97,7 @@ static void test_damping_follows_the_corrections(void)
     il_t il;
     double expected;
     il_config_default(&c);
+    c.enable = 1u;
     TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
     /* the measurements take 1 rad/s of away-speed per settle sample: dw = -settle */
     TV_CHECK_EQ_INT(stiff_impact(&il, &p, -1.0), 1);
@@ -140,6 +142,7 @@ static void test_stiffness_from_a_resolved_penetration(void)
     double k_obs;
     double expected;
     il_config_default(&c);
+    c.enable = 1u;
     TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
     TV_CHECK_EQ_INT(step(&il, &p, on + 0.004, current_no_push(&p, on), -10.0, on + 0.004, -10.0), 0);
     for (k = 0; k < 3; ++k) {
@@ -174,6 +177,7 @@ static void test_no_learning_without_an_impact(void)
     il_t il;
     int k;
     il_config_default(&c);
+    c.enable = 1u;
     TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
     /* slow (below v_min_rad_s): never armed */
     for (k = 0; k < 50; ++k) {
@@ -237,6 +241,8 @@ static void test_in_the_application(void)
     TV_CHECK_EQ_INT(sim_run(&o, &r), TV_OK);
     TV_CHECK_EQ_INT(sim_apply_stop_learning(&r, &ac), TV_OK);
     o.scenario = SIM_SCN_PAPER_SINE;
+    TV_CHECK_EQ_INT((int)ac.impact_learn.enable, 0); /* off by default */
+    ac.impact_learn.enable = 1u;
     TV_CHECK_EQ_INT(sim_run(&o, &r), TV_OK);
     ac.impact_learn.enable = 0u;
     TV_CHECK_EQ_INT(sim_run(&o, &off), TV_OK);
