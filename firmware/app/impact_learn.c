@@ -132,7 +132,7 @@ static int learn(il_t *il, const tvm_params_t *m)
     if (il->p_max >= il->cfg.p_min_rad && il->n_contact >= 2u) {
         /* k p^(e+1) / (e+1) = J (x - ln(1 + x)) / alpha^2 + push p  (x = alpha v_in) */
         const tv_real_t xa = il->alpha * il->v_in;
-        const tv_real_t energy = J * (xa - TV_LOG(TV_R(1.0) + xa)) / (il->alpha * il->alpha) +
+        const tv_real_t energy = J * (xa - TV_LOG1P(xa)) / (il->alpha * il->alpha) +
                                  push * il->p_max;
         const tv_real_t k_obs = (e + TV_R(1.0)) * energy / TV_POWP(il->p_max, e + TV_R(1.0));
         const tv_real_t ref = TV_POWP(IL_P_REF_RAD, TV_R(1.0) - e);

@@ -22,6 +22,7 @@ typedef double tv_real_t;
 #define TV_SQRT(x) sqrt(x)
 #define TV_EXP(x) exp(x)
 #define TV_LOG(x) log(x)
+#define TV_LOG1P(x) log1p(x)
 #define TV_FABS(x) fabs(x)
 #define TV_REAL_IS_DOUBLE 1
 #else
@@ -31,6 +32,7 @@ typedef float tv_real_t;
 #define TV_SQRT(x) sqrtf(x)
 #define TV_EXP(x) expf(x)
 #define TV_LOG(x) logf(x)
+#define TV_LOG1P(x) log1pf(x)
 #define TV_FABS(x) fabsf(x)
 #define TV_REAL_IS_DOUBLE 0
 #endif
