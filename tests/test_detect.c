@@ -840,6 +840,18 @@ static int probe_step(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, int k
     return diag_spring_probe(dd, d, allowed, phi, TV_R(0.0), TV_R(0.25), TV_R(0.059) * phi, TV_R(0.2), pre_rel, fr_rel, T, snap);
 }
 
+/* A fresh detector suspecting a weak spring: 50 closing samples whose unexplained torque is 0.2
+ * of the spring's (above probe_trigger). */
+static void suspect_spring(diag_detect_t *dd, diag_t *d, const diag_detect_config_t *cfg, diag_snapshot_t *snap)
+{
+    int k;
+    diag_init(d);
+    TV_CHECK_EQ_INT(diag_detect_init(dd, cfg), TV_OK);
+    for (k = 0; k < 50; ++k) {
+        feed_closing(dd, d, snap, k, TV_R(0.2));
+    }
+}
+
 /* The spring probe (diag_spring_probe()) on scripted inputs. Nothing suspected (healthy closing
  * samples, y = 0): no probe. Closing samples whose unexplained torque is 0.3 of the spring's
  * (the closing reading a = 0.3, above probe_trigger; the estimator's levels meanwhile pulled to
@@ -946,11 +958,7 @@ static void test_spring_probe(void)
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
     /* the same suspicion (more friction also reads so in closing) on a plate that holds: no
      * verdict after DIAG_PROBE_MAX_STEPS steps, and the suspicion ends */
-    diag_init(&d);
-    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-    for (k = 0; k < 50; ++k) {
-        feed_closing(&dd, &d, &snap, k, TV_R(0.2));
-    }
+    suspect_spring(&dd, &d, &cfg, &snap);
     n = 0;
     for (k = 50; k < 400; ++k) {
         n += probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(1.0), TV_R(1.0), &T);
@@ -959,11 +967,7 @@ static void test_spring_probe(void)
     TV_CHECK(dd.cl_w == TV_R(0.0));
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
     /* not allowed (limited authority, near a stop or limp-home, open loop): no probe */
-    diag_init(&d);
-    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-    for (k = 0; k < 50; ++k) {
-        feed_closing(&dd, &d, &snap, k, TV_R(0.2));
-    }
+    suspect_spring(&dd, &d, &cfg, &snap);
     n = 0;
     for (k = 50; k < 400; ++k) {
         n += probe_step(&dd, &d, &snap, k, 0, TV_R(0.35), TV_R(1.0), TV_R(1.0), &T);
@@ -976,11 +980,7 @@ static void test_spring_probe(void)
     }
     TV_CHECK_EQ_INT(n, 0);
     /* below limp-home the probe pushes the other way: spring torque -M0 + c phi, minus the friction share */
-    diag_init(&d);
-    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-    for (k = 0; k < 50; ++k) {
-        feed_closing(&dd, &d, &snap, k, TV_R(0.2));
-    }
+    suspect_spring(&dd, &d, &cfg, &snap);
     n = 0;
     for (k = 50; k < 70 && n == 0; ++k) {
         n = probe_step(&dd, &d, &snap, k, 1, TV_R(-0.07), TV_R(1.0), TV_R(1.0), &T);
