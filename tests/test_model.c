@@ -433,6 +433,10 @@ static void test_continuous_derivative_analytic_limits(void)
     TV_CHECK_NEAR(d[0], (12.0 - 4.3) / 0.002, 1e-6);
     TV_CHECK_NEAR(d[1], (40.0 * 0.017 * 1.0 - 0.25 * 0.3 / sqrt(0.09 + 1e-8) - 0.059 * 0.3) / 0.0016, 1e-6);
     TV_CHECK_NEAR(d[2], 0.0, 0.0);
+    /* the springs alone, written out: M0 sp(0.3) + c 0.3, and at limp-home 0 */
+    TV_CHECK_NEAR(tvm_spring_torque(&m.p, 0.3), 0.25 * 0.3 / sqrt(0.09 + 1e-8) + 0.059 * 0.3, 1e-12);
+    TV_CHECK_NEAR(tvm_spring_torque(&m.p, -0.1), -0.25 * 0.1 / sqrt(0.01 + 1e-8) - 0.059 * 0.1, 1e-12);
+    TV_CHECK_NEAR(tvm_spring_torque(&m.p, 0.0), 0.0, 0.0);
     TV_CHECK_NEAR(tvm_friction_level(&m, 0.0), 0.3, 1e-15);
     /* Far above ws the Stribeck term has decayed: g(50) = Mc + 0.1 exp(-50) ~ Mc. */
     TV_CHECK_NEAR(tvm_friction_level(&m, 50.0), 0.2, 1e-12);

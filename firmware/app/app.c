@@ -484,10 +484,8 @@ static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
         const tv_real_t phi = x[TVM_PHI];
         const tv_real_t w = x[TVM_W];
         const tv_real_t e = target - phi;
-        const tv_real_t e_phi = p->e_phi_rad;
-        const tv_real_t sp = target / TV_SQRT(target * target + e_phi * e_phi);
         const tv_real_t nkt = p->n_gear * p->Kt_Nm_A;
-        tv_real_t torque_ff = p->M0_Nm * sp + p->c_Nm_rad * target;
+        tv_real_t torque_ff = tvm_spring_torque(p, target);
         tv_real_t u;
         if (e > TV_R(0.002)) {
             torque_ff += p->Mc_Nm;

@@ -77,7 +77,7 @@ int il_reset(il_t *il, const il_config_t *cfg, const tvm_params_t *model)
     impact_restart(il);
     il->k = model->k_stop_Nm_rad;
     il->alpha = model->d_stop_Nm_s_rad / model->k_stop_Nm_rad;
-    il->r_last = TV_R(0.0);
+    il->rebound_err_last = TV_R(0.0);
     il->n_learned = 0u;
     il->n_k = 0u;
     il->n_abandoned = 0u;
@@ -85,12 +85,10 @@ int il_reset(il_t *il, const il_config_t *cfg, const tvm_params_t *model)
 }
 
 /* Net torque the model puts into stop q (0 closed, 1 open) from the estimate: motor minus the
- * springs (the preload's sign: the closed stop lies below limp-home, the open one above), > 0
- * pressing into it [N m]. */
+ * springs, > 0 pressing into it [N m]. */
 static tv_real_t push_into(const tvm_params_t *m, int q, const tv_real_t x[TVM_NX])
 {
-    const tv_real_t drive = m->n_gear * m->Kt_Nm_A * x[TVM_I] - (q == 0 ? -m->M0_Nm : m->M0_Nm) -
-                            m->c_Nm_rad * x[TVM_PHI];
+    const tv_real_t drive = m->n_gear * m->Kt_Nm_A * x[TVM_I] - tvm_spring_torque(m, x[TVM_PHI]);
     return q == 0 ? -drive : drive;
 }
 
@@ -127,7 +125,7 @@ static int learn(il_t *il, const tvm_params_t *m)
     step = -g * il->dw_sum / il->v_in;
     step = clampr(step, -TV_R(0.69314718055994531), TV_R(0.69314718055994531)); /* ln 2 */
     il->alpha = clampr(il->alpha * TV_EXP(step), il->cfg.alpha_min, il->cfg.alpha_max);
-    il->r_last = il->dw_sum / il->v_in;
+    il->rebound_err_last = il->dw_sum / il->v_in;
     ++il->n_learned;
     if (il->p_max >= il->cfg.p_min_rad && il->n_contact >= 2u) {
         /* k p^(e+1) / (e+1) = J (x - ln(1 + x)) / alpha^2 + push p  (x = alpha v_in) */

@@ -109,7 +109,7 @@ typedef struct {
     /* results */
     tv_real_t alpha;         /**< learned damping ratio d / k [s/rad] (valid when n_learned > 0) */
     tv_real_t k;             /**< learned stiffness [N m/rad^e] (the law's, updated when resolvable) */
-    tv_real_t r_last;        /**< the last impact's dw / v_in [-]: the model's rebound error relative to the impact speed */
+    tv_real_t rebound_err_last; /**< the last impact's dw / v_in [-]: the model's rebound error relative to the impact speed */
     uint32_t n_learned;      /**< impacts learned from */
     uint32_t n_k;            /**< of which updated the stiffness */
     uint32_t n_abandoned;    /**< impacts armed but not learned from (rest, no reversal, invalid angle) */

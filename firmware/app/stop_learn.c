@@ -103,13 +103,6 @@ int sl_running(const sl_t *sl)
     return sl != NULL && (sl->phase == SL_CLOSED || sl->phase == SL_OPEN);
 }
 
-/* Spring torque M0 sp(phi) + c phi the motor must balance [N m] (smoothed preload as in the model). */
-static tv_real_t spring_Nm(const tvm_params_t *p, tv_real_t phi)
-{
-    const tv_real_t e = p->e_phi_rad;
-    return p->M0_Nm * phi / TV_SQRT(phi * phi + e * e) + p->c_Nm_rad * phi;
-}
-
 static tv_real_t clampv(tv_real_t v, tv_real_t lim)
 {
     return v > lim ? lim : (v < -lim ? -lim : v);
@@ -451,7 +444,7 @@ tv_real_t sl_step(sl_t *sl, tv_real_t phi)
         }
         e = sl->target_rad - phi;
         sl->integ_V = clampv(sl->integ_V + c->ki_V_rad_s * e * p->Ts_s, c->push_V);
-        u = v_per_Nm * spring_Nm(p, sl->target_rad) + p->n_gear * p->Ke_V_s_rad * v_t + c->kp_V_rad * e +
+        u = v_per_Nm * tvm_spring_torque(p, sl->target_rad) + p->n_gear * p->Ke_V_s_rad * v_t + c->kp_V_rad * e +
             sl->integ_V - c->kd_V_s_rad * w;
         if (dir * u >= c->push_V) {
             ++sl->n_sat;
@@ -464,7 +457,7 @@ tv_real_t sl_step(sl_t *sl, tv_real_t phi)
                 sl->stage = STAGE_SETTLE;
                 sl->level = 0u;
                 sl->contact_phi_rad = mean;
-                sl->u_hold_V = clampv(v_per_Nm * (spring_Nm(p, mean) + dir * level_torque(c, 0u)), c->level_V_max);
+                sl->u_hold_V = clampv(v_per_Nm * (tvm_spring_torque(p, mean) + dir * level_torque(c, 0u)), c->level_V_max);
             }
             block_reset(sl);
         }
@@ -492,7 +485,7 @@ tv_real_t sl_step(sl_t *sl, tv_real_t phi)
                 if (sl->level + 1u < SL_LEVELS) {
                     ++sl->level;
                     sl->stage = STAGE_SETTLE;
-                    sl->u_hold_V = clampv(v_per_Nm * (spring_Nm(p, sl->contact_phi_rad) + dir * level_torque(c, sl->level)),
+                    sl->u_hold_V = clampv(v_per_Nm * (tvm_spring_torque(p, sl->contact_phi_rad) + dir * level_torque(c, sl->level)),
                                           c->level_V_max);
                     return sl->u_hold_V;
                 }
@@ -507,7 +500,7 @@ tv_real_t sl_step(sl_t *sl, tv_real_t phi)
             const tv_real_t frac = sl->blk_n < q ? (tv_real_t)sl->blk_n / (tv_real_t)q
                                                  : (tv_real_t)(2u * q - sl->blk_n) / (tv_real_t)q;
             const tv_real_t u_pre =
-                clampv(v_per_Nm * (spring_Nm(p, sl->contact_phi_rad) + dir * (level_torque(c, 0u) + c->preload_Nm)),
+                clampv(v_per_Nm * (tvm_spring_torque(p, sl->contact_phi_rad) + dir * (level_torque(c, 0u) + c->preload_Nm)),
                        c->level_V_max);
             return sl->u_hold_V + frac * (u_pre - sl->u_hold_V);
         }

@@ -155,9 +155,7 @@ int st_step(st_t *t, const tvm_params_t *model, tv_real_t phi_rad, int phi_valid
         return 0;
     }
     /* net torque toward opening: motor minus the springs (preload sign smoothed as the model's) */
-    drive = model->n_gear * model->Kt_Nm_A * i_A -
-            model->M0_Nm * phi_rad / TV_SQRT(phi_rad * phi_rad + model->e_phi_rad * model->e_phi_rad) -
-            model->c_Nm_rad * phi_rad;
+    drive = model->n_gear * model->Kt_Nm_A * i_A - tvm_spring_torque(model, phi_rad);
     if (t->n == 0u) {
         t->phi_min = phi_rad;
         t->phi_max = phi_rad;

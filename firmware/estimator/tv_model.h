@@ -137,6 +137,14 @@ tv_real_t tvm_friction_level(const tvm_t *m, tv_real_t w_rad_s);
 /** Hard-stop torque on the plate [N m], positive = opening, at angle phi [rad] and velocity w. */
 tv_real_t tvm_stop_torque(const tvm_t *m, tv_real_t phi_rad, tv_real_t w_rad_s);
 
+/**
+ * The springs' torque M0 sp(phi) + c phi [N m] at angle phi [rad], positive = toward closing
+ * (what the motor must balance to hold the plate), the preload sign smoothed as the map's
+ * (sp = phi / sqrt(phi^2 + e_phi^2)). From the parameters alone: the start-up routine, the stop
+ * tracker and the impact learning call it with the model they are given.
+ */
+tv_real_t tvm_spring_torque(const tvm_params_t *p, tv_real_t phi_rad);
+
 
 /**
  * One step of the discrete prediction map over Ts: x_next = f(x, u), and optionally its
