@@ -161,12 +161,6 @@ tv_real_t tvm_stop_torque(const tvm_t *m, tv_real_t phi_rad, tv_real_t w_rad_s)
     return stop_torque(m, phi_rad, w_rad_s, NULL, NULL);
 }
 
-tv_real_t tvm_spring_torque(const tvm_params_t *p, tv_real_t phi_rad)
-{
-    const tv_real_t e = p->e_phi_rad;
-    return p->M0_Nm * phi_rad / TV_SQRT(phi_rad * phi_rad + e * e) + p->c_Nm_rad * phi_rad;
-}
-
 /* Smoothed preload sign sp(phi) = phi / sqrt(phi^2 + e^2) and its derivative e^2 / r^3. */
 static tv_real_t preload_sign(tv_real_t phi, tv_real_t e, tv_real_t *d_dphi)
 {
