@@ -3,7 +3,10 @@
 detection, delay percentiles, isolation (first code after the onset), codes before the onset,
 the confusion matrix and the healthy totals with a soak summary. Then one real population run
 with an injected track offset, through the same script: the CSV columns it relies on exist and
-the offset is detected with its class."""
+the offset is detected with its class. Last, the identified section (each unit's filter on the
+parameters identify finds in its healthy end-of-line log, diag.identified = 1): friction +25 %,
+which the class's filter cannot tell from the +-30 % unit spread, confirmed as P2119 within the
+issue's 5 s on two all_varied units of both classes, and the same runs healthy confirm nothing."""
 import csv
 import json
 import os
@@ -100,11 +103,33 @@ def real(d, pop):
     check(t is not None and 0.0 < t["delay_median_s"] < 0.05, "its delay is below 50 ms (%s)" % (t and t["delay_median_s"]))
 
 
+def identified(d, pop):
+    os.makedirs(d)
+    common = [pop, "--plants", "3", "--first-unit", "1000", "--seeds", "1", "--sections", "identified",
+              "--scenarios", "drive,paper_sine", "--duration", "8"]
+    runs = {}
+    for name, fault in (("healthy", []), ("friction", ["--fault", "friction_high:1.25@2"])):
+        csv_path = os.path.join(d, name + ".csv")
+        subprocess.run(common + fault + ["--runs-csv", csv_path, "--json", os.path.join(d, name + ".json")],
+                       check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        runs[name] = list(csv.DictReader(open(csv_path)))
+    check(len(runs["healthy"]) == 6 and all(r["section"] == "all_varied_identified" for r in runs["healthy"]),
+          "identified section: 3 units x 2 scenarios")
+    check(sorted({r["class"] for r in runs["healthy"]}) == ["a", "b"], "both classes")
+    check(all(r["dtc_confirmed"] == "0" for r in runs["healthy"]), "healthy identified units: no code confirmed")
+    for r in runs["friction"]:
+        codes = [c.split(":") for c in r["dtc_codes"].split(";") if c]
+        first = codes[0] if codes else None
+        check(first is not None and first[0] == "P2119" and 2.0 < float(first[2]) <= 7.0,
+              "unit %s %s: friction +25 %% confirmed as P2119 within 5 s (%s)" % (r["unit"], r["scenario"], r["dtc_codes"]))
+
+
 def main():
     with tempfile.TemporaryDirectory() as d:
         synthetic(os.path.join(d, "a"))
         if len(sys.argv) > 1:
             real(os.path.join(d, "b"), sys.argv[1])
+            identified(os.path.join(d, "c"), sys.argv[1])
     print("%d failure(s)" % failures)
     return 1 if failures else 0
 

@@ -91,6 +91,9 @@ def recovered(unit, cls, fmt):
         err = got[mkey] / truth[pkey] - 1.0 if kind == "rel" else got[mkey] - truth[pkey]
         check(abs(err) <= tol, "unit %d (%s): %s = %.6g, the unit's %.6g: error %.4g beyond %g" %
               (unit, cls, mkey, got[mkey], truth[pkey], err, tol))
+    # motor, inertia, friction and springs all identified: the file asks for the diagnostic bounds
+    # relative to this model (diag.identified = 1, diag_detect_config_identified())
+    check(got.get("diag.identified") == 1.0, "unit %d (%s): diag.identified = 1 written" % (unit, cls))
     # every estimate is printed with its standard deviation, and the fit quality
     check(re.search(r"^R\s+\S+\s+\S+", out, re.M) is not None and "armature R^2" in out,
           "unit %d: estimates with sigma and the fit quality printed" % unit)

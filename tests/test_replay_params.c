@@ -114,6 +114,46 @@ static void test_values_comments_and_q_recomputation(void)
     TV_CHECK_EQ_INT(params_set(&s_p, "nope", 1.0, s_err, sizeof s_err), TV_ERR_FORMAT);
 }
 
+/* diag.identified = 1 (what identify writes) puts the bounds of diag_detect_config_identified() in
+ * force, = 0 the class's; the written file says which; anything but 0 or 1 is refused. The bound
+ * values are written out here (diag_detect.h's documentation), not taken from the code. */
+static void test_diag_identified_selects_the_unit_model_bounds(void)
+{
+    app_config_t c;
+    FILE *f;
+    char buf[16384];
+    size_t n;
+    app_config_default(&c);
+    TV_CHECK(c.diag.identified == 0u && c.diag.friction_high_rel == (tv_real_t)1.7 &&
+             c.diag.friction_fast_high == (tv_real_t)1.7);
+    TV_CHECK_EQ_INT(parse("diag.identified = 1\n"), TV_OK);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    TV_CHECK(c.diag.identified == 1u);
+    TV_CHECK(c.diag.friction_high_rel == (tv_real_t)1.15 && c.diag.friction_fast_high == (tv_real_t)1.15 &&
+             c.diag.friction_fast_level_min == (tv_real_t)1.1 && c.diag.preload_fast_low == (tv_real_t)0.7 &&
+             c.diag.preload_fast_friction_max == (tv_real_t)1.3);
+    /* the written configuration names it, and reads back to the same bounds */
+    f = tmpfile();
+    TV_CHECK(f != NULL);
+    if (f == NULL) {
+        return;
+    }
+    TV_CHECK_EQ_INT(params_write(f, &c, NULL), TV_OK);
+    rewind(f);
+    n = fread(buf, 1u, sizeof buf - 1u, f);
+    buf[n] = '\0';
+    (void)fclose(f);
+    TV_CHECK(strstr(buf, "\ndiag.identified = 1 ") != NULL);
+    /* 0 restores the class's bounds */
+    TV_CHECK_EQ_INT(parse("diag.identified = 0\n"), TV_OK);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    TV_CHECK(c.diag.identified == 0u && c.diag.friction_high_rel == (tv_real_t)1.7 &&
+             c.diag.friction_fast_high == (tv_real_t)1.7 && c.diag.preload_fast_low == (tv_real_t)0.5);
+    TV_CHECK_EQ_INT(parse("diag.identified = 2\n"), TV_ERR_RANGE);
+    TV_CHECK(has("p.txt:1: diag.identified = 2 is out of range, allowed [0, 1]"));
+    TV_CHECK_EQ_INT(parse("diag.identified = 0.5\n"), TV_ERR_FORMAT);
+}
+
 static void test_unknown_key_is_an_error_naming_file_line_and_key(void)
 {
     TV_CHECK_EQ_INT(parse("model.R_ohm = 4\nmodel.R_Ohm = 4\n"), TV_ERR_FORMAT);
@@ -204,6 +244,7 @@ int main(void)
 {
     TV_TEST_RUN(test_written_defaults_read_back_to_the_same_configuration);
     TV_TEST_RUN(test_values_comments_and_q_recomputation);
+    TV_TEST_RUN(test_diag_identified_selects_the_unit_model_bounds);
     TV_TEST_RUN(test_unknown_key_is_an_error_naming_file_line_and_key);
     TV_TEST_RUN(test_missing_value_is_an_error);
     TV_TEST_RUN(test_duplicate_key_is_an_error);

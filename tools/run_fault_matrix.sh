@@ -3,8 +3,10 @@
 # magnitudes (down to the smallest claimed) x five scenarios (closed-loop normal driving "drive",
 # full-range maximum-slew closed-loop steps, the paper's open-loop 12 V sine, the slow stick-slip
 # sine, limp_home: closed loop with the bridge switched off twice, as at key-off) x the
-# population's evaluation units of both sections (stops_varied: the filter knows the unit's motor,
-# friction and spring; all_varied: every parameter spread, the filter on its class's defaults)
+# population's evaluation units of three sections (stops_varied: the filter knows the unit's motor,
+# friction and spring; all_varied: every parameter spread, the filter on its class's defaults;
+# all_varied_identified: the same units, the filter on the parameters identify found in each
+# unit's healthy end-of-line log, diag.identified = 1)
 # x noise seeds, the fault injected at ONSET s into runs of DURATION s; the same runs
 # healthy; and the long healthy soak (tools/run_healthy_soak.sh). tools/fault_matrix.py writes
 # out/fault_matrix/summary.json (per class: detection_rate, delay_median_s, delay_p95_s,
@@ -12,8 +14,8 @@
 #
 #   usage: tools/run_fault_matrix.sh [--quick | --full] [--plants N] [--seeds S] [--soak-duration S]
 #                                    [--no-soak | --soak-from JSON] [--jobs J]
-#   default  10 units per section, 1 seed, 8 s runs: 100 runs per fault spec, 41 specs (4,200 runs),
-#            and the soak (1,620 runs x 70 s = 113,400 s); about 12 minutes on 2 cores
+#   default  10 units per section, 1 seed, 8 s runs: 150 runs per fault spec, 41 specs (6,300 runs),
+#            and the soak (2,430 runs x 70 s = 170,100 s); about 18 minutes on 2 cores
 #   --soak-from JSON  take the soak's figures from an earlier tools/run_healthy_soak.sh summary
 #            (out/soak/summary.json) instead of running it
 #   --quick  2 units, drive and closed_steps, 6 s runs, a 5 s-per-run soak; about 30 s
@@ -65,9 +67,9 @@ specs=(
   bridge_pos_lost bridge_neg_lost
   supply_sag:2 supply_sag:3 supply_sag:5
 )
-common=(--plants "$plants" --seeds "$seeds" --sections stops,all --scenarios "$scenarios" --duration "$duration")
+common=(--plants "$plants" --seeds "$seeds" --sections stops,all,identified --scenarios "$scenarios" --duration "$duration")
 pop=build/host-release/bin/population
-echo "fault matrix: ${#specs[@]} fault specs + healthy, ${plants} units x 2 sections x ${scenarios//,/ } x ${seeds} seed(s), ${duration} s runs, onset ${ONSET} s" >&2
+echo "fault matrix: ${#specs[@]} fault specs + healthy, ${plants} units x 3 sections x ${scenarios//,/ } x ${seeds} seed(s), ${duration} s runs, onset ${ONSET} s" >&2
 # one population process per spec, $jobs at a time; each writes its own runs CSV and log
 run_spec() { # spec ('healthy' for none)
   local s=$1 f=()

@@ -57,6 +57,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->probe_friction_frac = TV_R(0.65);
     cfg->probe_move_rad = TV_R(0.0015);
     cfg->param_slow_hold = 95u;
+    cfg->identified = 0u;
 }
 
 void diag_detect_config_identified(diag_detect_config_t *cfg)
@@ -68,6 +69,8 @@ void diag_detect_config_identified(diag_detect_config_t *cfg)
     cfg->friction_fast_level_min = TV_R(1.1);
     cfg->preload_fast_low = TV_R(0.7);
     cfg->preload_fast_friction_max = TV_R(1.3);
+    cfg->friction_high_rel = TV_R(1.15);
+    cfg->identified = 1u;
 }
 
 int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)

@@ -263,6 +263,8 @@ typedef struct {
     uint16_t param_slow_hold;     /**< the adapted levels (1 + f, 1 + m) fail only once beyond their bounds for
                                        this many checks in a row [checks], > 0; default 95 (with the codes'
                                        confirmation counts about the former 100 checks = 1 s of motion) */
+    uint8_t identified;           /**< 1: the bounds of diag_detect_config_identified() are in force (the
+                                       filter's model is the unit's own); 0: the class's (default) */
 } diag_detect_config_t;
 
 /** Detector state. Allocate statically; diag_detect_init() before use. */
@@ -320,7 +322,10 @@ void diag_detect_config_default(diag_detect_config_t *cfg);
  * friction and preload are then the model's (1 +- the estimation error, not +-30 %), so the
  * torque signature may judge a change relative to them: friction_fast_high 1.15 with
  * friction_fast_level_min 1.1 (friction +25 % is seen), preload_fast_low 0.7 (a spring at 50 %
- * is seen) with preload_fast_friction_max 1.3. Does nothing when cfg is NULL.
+ * is seen) with preload_fast_friction_max 1.3; and so may the adapted level: friction_high_rel
+ * 1.15 (on an identified unit the healthy 1 + f reads 0.98-1.00 in every scenario, sigma
+ * 0.01-0.02; README "Identified units"). Sets identified = 1. The parameter file key
+ * diag.identified = 1 (written by identify) selects it. Does nothing when cfg is NULL.
  */
 void diag_detect_config_identified(diag_detect_config_t *cfg);
 

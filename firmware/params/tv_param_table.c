@@ -58,6 +58,7 @@ static const tvp_desc_t s_table[TVP_COUNT] = {
     {"ekf.qm_1_s", "1/s", 0.0, 100.0, 0u, "relative spring-preload error state: random-walk density (0 = no such state)"},
     {"ekf.m_sigma0", "-", 0.0, 10.0, 0u, "relative spring-preload error state: initial standard deviation"},
     {"ekf.m_abs_max", "-", 0.0, 1.0, TVP_LO_OPEN | TVP_HI_OPEN, "relative spring-preload error state: bound on its magnitude"},
+    {"diag.identified", "-", 0.0, 1.0, TVP_INTEGER, "1: the model is this unit's own (identify writes it): the diagnostic bounds judge friction and preload relative to it (diag_detect_config_identified())"},
     {"calib.current_offset_counts", "counts", 0.0, 65535.0, 0u, "current channel at 0 A"},
     {"calib.current_A_per_count", "A/count", -1.0, 1.0, TVP_NONZERO, "current sense gain"},
     {"calib.tps1_counts_at_zero", "counts", -1000000.0, 1000000.0, 0u, "track 1 at limp-home"},

@@ -19,7 +19,7 @@ enum {
     K_R = 0, K_L, K_KE, K_KT, K_J, K_N, K_MC, K_M0, K_C, K_KV, K_MS, K_WS, K_PHI_CLOSED, K_PHI_OPEN, K_K_STOP,
     K_D_STOP, K_STOP_EXP, K_E_PHI, K_E_W, K_SUBSTEPS,
     K_QU, K_QT, K_R_CURRENT, K_R_VELOCITY, K_R_ANGLE, K_CONTACT_BAND, K_QC, K_STOP_LEARN, K_QD_CONTACT, K_QD_FREE, K_D_TAU, K_CONTACT_GATE, K_QT_REL, K_IL_ENABLE, K_IL_GAIN,
-    K_QR, K_R_SIGMA0, K_DR_MAX, K_DR_EXCITE, K_QF, K_F_SIGMA0, K_F_MAX, K_F_EXCITE, K_QM, K_M_SIGMA0, K_M_MAX,
+    K_QR, K_R_SIGMA0, K_DR_MAX, K_DR_EXCITE, K_QF, K_F_SIGMA0, K_F_MAX, K_F_EXCITE, K_QM, K_M_SIGMA0, K_M_MAX, K_DIAG_IDENTIFIED,
     K_CAL_CUR_OFF, K_CAL_CUR_GAIN, K_CAL_TPS1_ZERO, K_CAL_TPS1_GAIN, K_CAL_TPS2_ZERO, K_CAL_TPS2_GAIN, K_CAL_SUPPLY,
     K_LIM_CUR_MIN, K_LIM_CUR_MAX, K_LIM_TPS_MIN, K_LIM_TPS_MAX, K_LIM_DISAGREE, K_LIM_SUP_MIN, K_LIM_SUP_MAX,
     K_LIM_DEBOUNCE, K_LIM_MAX_GAP,
@@ -451,6 +451,13 @@ int params_apply(const params_t *p, app_config_t *cfg, char *err, size_t cap)
             c.model.substeps = (int)p->value[k];
         } else if (k == K_IL_ENABLE) {
             c.impact_learn.enable = (uint8_t)p->value[k];
+        } else if (k == K_DIAG_IDENTIFIED) {
+            /* the unit's own model: the diagnostic bounds relative to it; 0: the class's */
+            if (p->value[k] != 0.0) {
+                diag_detect_config_identified(&c.diag);
+            } else {
+                diag_detect_config_default(&c.diag);
+            }
         }
     }
     if (p->line[K_PHI_CLOSED] != 0u || p->line[K_PHI_OPEN] != 0u) {
@@ -526,8 +533,9 @@ int params_write(FILE *f, const app_config_t *cfg, const params_t *p)
         char rng[96];
         char num[32];
         double v;
-        if (k == K_R || k == K_QU || k == K_CAL_CUR_OFF || k == K_LIM_CUR_MIN) {
+        if (k == K_R || k == K_QU || k == K_DIAG_IDENTIFIED || k == K_CAL_CUR_OFF || k == K_LIM_CUR_MIN) {
             fputs(k == K_R ? "\n# estimator model (firmware/estimator/tv_model.h)\n"
+                  : k == K_DIAG_IDENTIFIED ? "\n# diagnostic bounds (firmware/diag/diag_detect.h)\n"
                   : k == K_QU ? "\n# estimator noise: process-noise densities and measurement VARIANCES (firmware/estimator/ekf.h)\n"
                   : k == K_CAL_CUR_OFF ? "\n# count calibration (firmware/app/app.h, app_calib_t); replay takes it from the log unless set here\n"
                                        : "\n# plausibility limits (firmware/app/app.h, app_limits_t)\n",
@@ -541,6 +549,8 @@ int params_write(FILE *f, const app_config_t *cfg, const params_t *p)
             v = (double)c.model.substeps;
         } else if (k == K_IL_ENABLE) {
             v = (double)c.impact_learn.enable;
+        } else if (k == K_DIAG_IDENTIFIED) {
+            v = (double)c.diag.identified;
         } else if (k == K_QU) {
             v = p != NULL && p->line[K_QU] != 0u ? p->value[K_QU] : (double)EKF_DEFAULT_QU_V2_S;
         } else {

@@ -15,7 +15,13 @@
  * PLANT_SPREAD_ALL (everything varied, the filter on its class's nominal model);
  * all_varied_adapted: the all_varied units and runs, each begun with POP_ADAPT_WARMUP_S of
  * normal excitation (sim_options_t::warmup_s) and scored after it, so the filter's adapted
- * parameters (winding resistance, friction) have seen the unit (issue 11).
+ * parameters (winding resistance, friction) have seen the unit (issue 11);
+ * all_varied_identified: the all_varied units with the filter on the parameters `identify`
+ * finds in an end-of-line log of each (identify_unit(): POP_IDENT_S of the identification
+ * excitation, scenario ident, on the healthy unit with plant noise seed POP_IDENT_SEED, outside
+ * the scored seeds), written as `identify -o` writes them (id_params.h, diag.identified = 1
+ * included) and read back as a parameter file: the record -> identify -> flash workflow
+ * (README "Identification"), and the diagnostic bounds relative to the unit's own model.
  *
  * PER RUN: velocity ratio = RMSE of the differentiated angle / RMSE of the filter (velocity,
  * scored ticks); NEES run average (3 dof); largest 100 ms NEES average; whether the
@@ -30,6 +36,8 @@
 #include <string.h>
 
 #include "cli.h"
+#include "id_params.h"
+#include "identify.h"
 #include "params.h"
 #include "plant_draw.h"
 #include "sim.h"
@@ -37,11 +45,16 @@
 #include "tv_status.h"
 
 /** Sections: index, name (summary.json key), the spread drawn, the warm-up before scoring [s]. */
-enum { POP_SEC_STOPS = 0, POP_SEC_ALL = 1, POP_SEC_ADAPTED = 2, POP_NSEC = 3 };
+enum { POP_SEC_STOPS = 0, POP_SEC_ALL = 1, POP_SEC_ADAPTED = 2, POP_SEC_IDENT = 3, POP_NSEC = 4 };
 /** Warm-up of all_varied_adapted [s]. */
 #define POP_ADAPT_WARMUP_S 5.0
-static const char *const s_sec_name[POP_NSEC] = {"stops_varied", "all_varied", "all_varied_adapted"};
-static const char *const s_sec_short[POP_NSEC] = {"stops", "all", "adapted"};
+/** all_varied_identified: length of the end-of-line identification log [s] and its plant noise
+ *  seed (the scored runs use seeds 1.. and the tuning 1001..: this one is neither). */
+#define POP_IDENT_S 30.0
+#define POP_IDENT_SEED 900001u
+static const char *const s_sec_name[POP_NSEC] = {"stops_varied", "all_varied", "all_varied_adapted",
+                                                 "all_varied_identified"};
+static const char *const s_sec_short[POP_NSEC] = {"stops", "all", "adapted", "identified"};
 
 /** First unit ID of the evaluation set (IDs below it are the training set). */
 #define POP_FIRST_EVAL_UNIT 1000u
@@ -129,6 +142,100 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
     l->err_open_max = max_finite(l->err_open_max, fabs(r.stop_learn_open_rad - pc->phi_open_rad));
     return sim_apply_stop_learning(&r, ac);
 }
+/* The samples of the identification log, as identify_main.c takes them from a replayed log: the
+ * voltage over the period (bridge enabled), the calibrated current and angle, usable where the
+ * bridge is enabled, no fault is latched and no sample is missing. */
+#define POP_IDENT_N 30001u /* POP_IDENT_S at 1 kHz, and one */
+typedef struct {
+    size_t n;
+    double u[POP_IDENT_N], i[POP_IDENT_N], phi[POP_IDENT_N];
+    uint8_t ok[POP_IDENT_N];
+} pop_ident_log_t;
+
+static void ident_row(const sim_row_t *row, void *user)
+{
+    pop_ident_log_t *g = (pop_ident_log_t *)user;
+    if (g->n >= POP_IDENT_N) {
+        return;
+    }
+    g->u[g->n] = row->bridge_enable ? row->u_applied_V : 0.0;
+    g->i[g->n] = row->z[EKF_CH_CURRENT];
+    g->phi[g->n] = row->z[EKF_CH_ANGLE];
+    g->ok[g->n] = row->bridge_enable && row->faults == 0u && row->missing_samples == 0u ? 1u : 0u;
+    ++g->n;
+}
+
+/* all_varied_identified: record the unit's end-of-line log (the identification excitation on the
+ * healthy unit, with the class's configuration ac), identify it, write the result as `identify
+ * -o` does and apply that parameter file to ac. TV_OK; TV_ERR_CONFIG when the log could not
+ * identify the plate (the unit would keep the class's model: reported, not hidden). */
+static int identify_unit(const plant_config_t *pc, app_config_t *ac, uint64_t unit)
+{
+    static pop_ident_log_t g;
+    static params_t prm;
+    static char text[16384];
+    sim_options_t opt;
+    sim_result_t r;
+    id_data_t d;
+    id_result_t res;
+    char err[PARAMS_MSG_MAX];
+    char name[64];
+    FILE *f;
+    size_t n;
+    int rc;
+    g.n = 0u;
+    sim_options_default(&opt);
+    opt.scenario = SIM_SCN_IDENT;
+    opt.duration_s = POP_IDENT_S;
+    opt.seed = POP_IDENT_SEED;
+    opt.plant = pc;
+    opt.app = ac;
+    opt.row_fn = ident_row;
+    opt.row_user = &g;
+    rc = sim_run(&opt, &r);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    d.n = g.n;
+    d.u_V = g.u;
+    d.i_A = g.i;
+    d.phi_rad = g.phi;
+    d.ok = g.ok;
+    d.Ts_s = 1e-3;
+    rc = id_run(&d, NULL, &res);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    if (!res.moved) {
+        fprintf(stderr, "%s: unit %llu: the identification log did not move the plate\n", s_prog, (unsigned long long)unit);
+        return TV_ERR_CONFIG;
+    }
+    (void)snprintf(name, sizeof name, "unit %llu's identification", (unsigned long long)unit);
+    f = tmpfile();
+    if (f == NULL) {
+        return TV_ERR_IO;
+    }
+    rc = id_write_params(f, name, &res, (double)ac->model.n_gear);
+    rewind(f);
+    n = fread(text, 1u, sizeof text - 1u, f);
+    if (rc == TV_OK && (ferror(f) || !feof(f))) {
+        rc = TV_ERR_IO; /* larger than the buffer: never for this writer */
+    }
+    (void)fclose(f);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    params_init(&prm, name);
+    rc = params_parse_text(&prm, text, n, err, sizeof err);
+    if (rc == TV_OK) {
+        rc = params_apply(&prm, ac, err, sizeof err);
+    }
+    if (rc != TV_OK) {
+        fprintf(stderr, "%s: %s\n", s_prog, err);
+    }
+    return rc;
+}
+
 /* The runs CSV's column "injected": the --fault specs as KIND:FAULT_CLASS:ONSET_S separated by
  * spaces, "healthy" when none. */
 static void write_injected(FILE *csv)
@@ -218,7 +325,9 @@ static void usage(FILE *f)
             "  --duration S      length of every run [s] (default: each scenario's own)\n"
             "  --sections LIST   comma-separated: stops (stops_varied), all (all_varied), adapted\n"
             "                    (all_varied_adapted: the all_varied runs begun with 5 s of normal\n"
-            "                    excitation, scored after it); default stops,all,adapted\n"
+            "                    excitation, scored after it), identified (all_varied_identified: the\n"
+            "                    all_varied units with the filter on the parameters identify finds in\n"
+            "                    a 30 s end-of-line log of each); default stops,all,adapted,identified\n"
             "  --params FILE     filter parameters applied on top of each unit's configuration\n"
             "                    (e.g. ekf.contact_band_rad; host_sim/replay/params.h)\n"
             "  --stop-learning on|off  on (default): each unit first runs the start-up stop\n"
@@ -349,12 +458,12 @@ int main(int argc, char **argv)
     unsigned long long first_seed = 1u;
     double duration_s = 0.0;
     int use_scn[SIM_SCN_COUNT];
-    int sections[POP_NSEC] = {1, 1, 1};
+    int sections[POP_NSEC] = {1, 1, 1, 1};
     const char *params_path = NULL;
     const char *json_path = "out/population/summary.json";
     const char *runs_csv = NULL;
     const char *params_out = NULL;
-    unsigned n_runs[POP_NSEC] = {0u, 0u, 0u};
+    unsigned n_runs[POP_NSEC] = {0u, 0u, 0u, 0u};
     double nominal_rmse = (double)NAN;
     FILE *f;
     FILE *csv = NULL;
@@ -453,7 +562,7 @@ int main(int argc, char **argv)
                 for (q = 0; q < POP_NSEC && strcmp(tok, s_sec_short[q]) != 0; ++q) {
                 }
                 if (q == POP_NSEC) {
-                    return usage_error("option %s: unknown section '%s' (stops, all, adapted)", a, tok);
+                    return usage_error("option %s: unknown section '%s' (stops, all, adapted, identified)", a, tok);
                 }
                 sections[q] = 1;
             }
@@ -547,6 +656,9 @@ int main(int argc, char **argv)
                     fprintf(stderr, "%s: %s\n", s_prog, err);
                     return 3;
                 }
+            }
+            if (rc == TV_OK && sec == POP_SEC_IDENT) {
+                rc = identify_unit(&pc, &ac, unit);
             }
             if (rc == TV_OK && stop_learning) {
                 rc = learn_stops(&pc, &ac, &s_learn[sec]);
