@@ -723,6 +723,28 @@ static void test_current_sensor_check_timing(void)
         diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap); /* measured = predicted + innovation */
     }
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_confirmed(&d, DIAG_DTC_P1A04));
+    /* healthy, with stop impacts: every 25th sample a -1.45 A innovation at a small predicted
+     * current (class-b unit 1001's impacts in the 12 V sine, README "P1A04 and stop impacts").
+     * Beyond isens_innov_max_A they are skipped and the windows pass; with the gate opened
+     * (10 A) the same samples shift each intercept by -1.45 / 25 = -0.058 A and P1A04 confirms:
+     * the gate is what keeps it quiet. */
+    for (first = 0; first < 2; ++first) {
+        diag_detect_config_t c2 = cfg;
+        if (first == 1) {
+            c2.isens_innov_max_A = TV_R(10.0);
+        }
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &c2), TV_OK);
+        diag_init(&d);
+        for (k = 0; k < 10 * (int)DIAG_ISENS_WIN; ++k) {
+            const tv_real_t i = isens_i(k);
+            const tv_real_t w = isens_w(k);
+            const tv_real_t y = k % 25 == 24 ? TV_R(-1.45) : TV_R(0.2) * i + TV_R(0.01) * w;
+            diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap);
+        }
+        TV_CHECK(first == 0 ? !diag_pending(&d, DIAG_DTC_P1A04) : diag_confirmed(&d, DIAG_DTC_P1A04));
+    }
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_init(&d);
     /* a constant current (one sign, one speed): the intercept is not determined, not judged */
     for (k = 0; k < 10 * (int)DIAG_ISENS_WIN; ++k) {
         diag_current_sensor_check(&dd, &d, 1, 1, 1, TV_R(0.2), TV_R(0.1), TV_R(1.0), &snap);
@@ -762,6 +784,9 @@ static void test_current_sensor_check_timing(void)
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
     diag_detect_config_default(&cfg);
     cfg.isens_i_max_A = TV_R(0.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    diag_detect_config_default(&cfg);
+    cfg.isens_innov_max_A = TV_R(0.0);
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
 }
 

@@ -49,6 +49,8 @@ def synthetic(d):
         ["all_varied", 3, "a", "closed_steps", 1, 8, inj, ""],
         # a code before the onset (early) and the jam after 0.500 s
         ["all_varied", 4, "a", "closed_steps", 1, 8, inj, "P1A02:spring_weak:1.0000 P2112:jam:2.5000"],
+        # another section: detected and isolated after 0.040 s
+        ["all_varied_identified", 1, "a", "drive", 1, 8, inj, "P2111:jam:2.0400"],
     ])
     write(os.path.join(d, "runs", "healthy.csv"), [
         ["all_varied", 1, "a", "drive", 1, 8, "healthy", ""],
@@ -60,19 +62,25 @@ def synthetic(d):
     subprocess.run([sys.executable, SCRIPT, d, soak], check=True, stdout=subprocess.DEVNULL)
     s = json.load(open(os.path.join(d, "summary.json")))
     j = s["classes"]["jam"]
-    check(j["runs"] == 4, "4 jam runs")
-    check(abs(j["detection_rate"] - 0.75) < 1e-12, "jam detected in 3 of 4 runs")
-    # delays 0.06, 0.10, 0.50: nearest-rank median = 0.10, p95 = 0.50
-    check(abs(j["delay_median_s"] - 0.10) < 1e-9, "median delay 0.100 s")
+    check(j["runs"] == 5, "5 jam runs")
+    check(abs(j["detection_rate"] - 0.8) < 1e-12, "jam detected in 4 of 5 runs")
+    # delays 0.04, 0.06, 0.10, 0.50: nearest-rank median = 0.06, p95 = 0.50
+    check(abs(j["delay_median_s"] - 0.06) < 1e-9, "median delay 0.060 s")
     check(abs(j["delay_p95_s"] - 0.50) < 1e-9, "p95 delay 0.500 s")
-    # isolated: run 1 and run 4 (its first code AFTER the onset is the jam)
-    check(abs(j["isolation_rate"] - 0.5) < 1e-12, "isolation 2 of 4")
-    check(abs(j["isolation_rate_of_alarms"] - 2.0 / 3.0) < 1e-12, "isolation 2 of the 3 runs with a code")
+    # isolated: runs 1 and 4 of all_varied (4's first code AFTER the onset is the jam), and the other section's
+    check(abs(j["isolation_rate"] - 0.6) < 1e-12, "isolation 3 of 5")
+    check(abs(j["isolation_rate_of_alarms"] - 3.0 / 4.0) < 1e-12, "isolation 3 of the 4 runs with a code")
     check(j["runs_with_a_code_before_onset"] == 1, "one run with a code before the onset")
-    check(s["confusion_matrix"]["jam"] == {"jam": 2, "friction_high": 1, "none": 1}, "confusion row of jam")
+    check(s["confusion_matrix"]["jam"] == {"jam": 3, "friction_high": 1, "none": 1}, "confusion row of jam")
+    # per section: all_varied 3 of 4 detected, 2 of 4 isolated; the identified section 1 of 1
+    sa, si = s["per_section"]["jam/all_varied"], s["per_section"]["jam/all_varied_identified"]
+    check(sa["runs"] == 4 and abs(sa["detection_rate"] - 0.75) < 1e-12 and abs(sa["isolation_rate"] - 0.5) < 1e-12,
+          "per section: all_varied 3 / 2 of 4")
+    check(si["runs"] == 1 and si["detection_rate"] == 1.0 and si["isolation_rate"] == 1.0, "per section: identified 1 of 1")
+    check(s["per_section"]["all/all_varied"]["runs"] == 4, "per section over all classes")
     check(s["matrix_healthy_runs"] == 2 and s["matrix_healthy_false_alarms"] == 1, "1 false alarm in 2 healthy runs")
     check(s["false_alarms_healthy"] == 1 and abs(s["healthy_seconds"] - 716.0) < 1e-9, "healthy totals with the soak")
-    check(s["per_scenario"]["jam/drive"]["detection_rate"] == 1.0, "per scenario: drive 2 of 2")
+    check(s["per_scenario"]["jam/drive"]["detection_rate"] == 1.0, "per scenario: drive 3 of 3")
     check(s["per_scenario"]["jam/closed_steps"]["detection_rate"] == 0.5, "per scenario: closed_steps 1 of 2")
     check("param_rel_err_median" not in j, "no parameter error for a jam")
     # resistance errors at the end: |5.1/5 - 1| = 2 %, |4.85/5 - 1| = 3 %, |6.6/6 - 1| = 10 %

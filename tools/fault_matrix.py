@@ -15,7 +15,8 @@ Definitions (per run of an injected fault with onset t0):
              follows);
   confusion  injected class (row) x class of that first code, "none" when no code confirmed;
   early      a code confirmed before t0 (a false alarm before the fault existed).
-Healthy runs (injected = healthy) and the soak count false alarms: runs with any confirmed code.
+Per population section (column "section") the same tallies, per class and over all classes
+("all/<section>"). Healthy runs (injected = healthy) and the soak count false alarms: runs with any confirmed code.
 For the faults that change an adapted parameter (winding resistance, friction, spring preload) the
 summary also gives the estimate's relative error at the end of the run, |estimate / true - 1|
 (median and p95), the true value being the plant's in force with the fault.
@@ -150,7 +151,7 @@ def main():
     if not files:
         print("fault_matrix.py: no runs CSV in %s/runs" % d, file=sys.stderr)
         return 1
-    per_class, per_spec, per_scn = {}, {}, {}
+    per_class, per_spec, per_scn, per_sec = {}, {}, {}, {}
     confusion = {}
     healthy_runs = healthy_alarms = 0
     healthy_seconds = 0.0
@@ -170,6 +171,8 @@ def main():
                 per_class.setdefault(cls, Tally()).add(res)
                 per_spec.setdefault((cls, spec), Tally()).add(res)
                 per_scn.setdefault((cls, row["scenario"]), Tally()).add(res)
+                per_sec.setdefault((cls, row["section"]), Tally()).add(res)
+                per_sec.setdefault(("all", row["section"]), Tally()).add(res)
                 row_c = confusion.setdefault(cls, {})
                 row_c[res["first_class"]] = row_c.get(res["first_class"], 0) + 1
     soak = None
@@ -183,6 +186,7 @@ def main():
         "classes": {c: per_class[c].json() for c in sorted(per_class)},
         "specs": {spec: dict(per_spec[(c, spec)].json(), fault_class=c) for (c, spec) in sorted(per_spec)},
         "per_scenario": {"%s/%s" % k: per_scn[k].json() for k in sorted(per_scn)},
+        "per_section": {"%s/%s" % k: per_sec[k].json() for k in sorted(per_sec)},
         "overall": total.json(),
         "confusion_matrix": confusion,
         "matrix_healthy_runs": healthy_runs,
@@ -233,6 +237,15 @@ def main():
             t = per_scn.get((c, s))
             cells.append("-" if t is None else "%.0f / %.0f %%" % (100.0 * t.detected / t.runs, 100.0 * t.isolated / t.runs))
         lines.append("| %s | %s |" % (c, " | ".join(cells)))
+    sections = sorted({s for (_, s) in per_sec})
+    lines += ["", "## Per fault class and population section: detected / isolated", "",
+              "| class | " + " | ".join(sections) + " |", "|---|" + "---|" * len(sections)]
+    for c in sorted(per_class) + ["all"]:
+        cells = []
+        for s in sections:
+            t = per_sec.get((c, s))
+            cells.append("-" if t is None else "%.0f / %.0f %%" % (100.0 * t.detected / t.runs, 100.0 * t.isolated / t.runs))
+        lines.append("| %s | %s |" % ("**all**" if c == "all" else c, " | ".join(cells)))
     lines += ["", "## Confusion matrix (injected class x class of the first code confirmed after the onset; runs)", "",
               "| injected \\ first code | " + " | ".join(cols) + " |", "|---|" + "---|" * len(cols)]
     for c in sorted(confusion):

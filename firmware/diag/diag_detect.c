@@ -39,6 +39,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->isens_zero_max_A = TV_R(0.02);
     cfg->isens_bias_max_A = TV_R(0.035);
     cfg->isens_i_max_A = TV_R(0.3);
+    cfg->isens_innov_max_A = TV_R(0.15);
     cfg->isens_vif_max = TV_R(4.0);
     cfg->torque_tau_samples = TV_R(50.0);
     cfg->torque_min_weight = TV_R(30.0);
@@ -87,7 +88,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
                                  cfg->bridge_lost_frac, cfg->supply_low_V,      cfg->supply_hyst_V,
                                  cfg->isens_zero_max_A, cfg->isens_bias_max_A,  cfg->isens_vif_max,
-                                 cfg->isens_i_max_A,
+                                 cfg->isens_i_max_A,    cfg->isens_innov_max_A,
                                  cfg->torque_tau_samples, cfg->torque_min_weight, cfg->torque_corr_max,
                                  cfg->torque_clip_Nm,   cfg->torque_w_min_rad_s, cfg->torque_move_min_rad, cfg->torque_accel_max_Nm,
                                  cfg->preload_fast_low, cfg->friction_fast_high, cfg->friction_fast_preload_min,
@@ -603,8 +604,8 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
      * carries the noise that is also in y, which would bias the slope toward 0 and, selected
      * by a band, the mean of y */
     i_pred = current_A - innov_A;
-    if (TV_FABS(i_pred) > dd->cfg.isens_i_max_A) {
-        return; /* outside the band: not counted, the window goes on */
+    if (TV_FABS(i_pred) > dd->cfg.isens_i_max_A || TV_FABS(innov_A) > dd->cfg.isens_innov_max_A) {
+        return; /* outside the band, or an impact the model placed late: not counted, the window goes on */
     }
     /* in-service window: the sums of the regression of y on (1, i, w) */
     if (dd->isens_n == 0u) {

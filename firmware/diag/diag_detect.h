@@ -114,8 +114,9 @@
  *       fails, else passes (value: the mean [A]).
  *     IN-SERVICE BIAS: while the bridge drives (since at least DIAG_ISENS_SETTLE periods), the
  *       model is the one in service (not during stop learning) and the estimator corrected with
- *       the current, the samples whose predicted |current| i is at most isens_i_max_A (samples
- *       above it are skipped, the window goes on) have their current innovation y (measured minus
+ *       the current, the samples whose predicted |current| i is at most isens_i_max_A and whose
+ *       |innovation| is at most isens_innov_max_A (a stop impact; samples beyond either are
+ *       skipped, the window goes on) have their current innovation y (measured minus
  *       predicted) regressed on (1, i, w) over DIAG_ISENS_WIN such samples (i is the PREDICTED
  *       current, measured minus innovation: the measured one carries the noise that is also in
  *       y, which would bias the slope and, selected by the band, the mean of y; w the estimated
@@ -215,6 +216,12 @@ typedef struct {
     tv_real_t isens_i_max_A;      /**< the window takes the driven samples whose predicted |current| is at
                                        most this [A], > 0; default 0.3 (where a resistance error, however
                                        adapted, can add little: README) */
+    tv_real_t isens_innov_max_A;  /**< ... and whose |current innovation| is at most this [A], > 0; default
+                                       0.15 (3x the 50 mA offset the check is for, 15 sigma of a healthy
+                                       sensor's noise): a stop impact's back-EMF step the model placed a
+                                       period late (-1.45 A on class-b unit 1001 in the 12 V sine) is no
+                                       sensor offset, and one such sample moved a 500-sample window's
+                                       intercept by 3 mA (README "P1A04 and stop impacts") */
     tv_real_t torque_tau_samples; /**< TORQUE SIGNATURE: forgetting time of the regression [fed samples], >= 10;
                                        default 100 */
     tv_real_t torque_min_weight;  /**< the signature is judged once its weight (decayed sample count) is at
