@@ -241,8 +241,7 @@ static void test_in_the_application(void)
     TV_CHECK_EQ_INT(sim_run(&o, &r), TV_OK);
     TV_CHECK_EQ_INT(sim_apply_stop_learning(&r, &ac), TV_OK);
     o.scenario = SIM_SCN_PAPER_SINE;
-    TV_CHECK_EQ_INT((int)ac.impact_learn.enable, 0); /* off by default */
-    ac.impact_learn.enable = 1u;
+    TV_CHECK_EQ_INT((int)ac.impact_learn.enable, 1); /* on by default */
     TV_CHECK_EQ_INT(sim_run(&o, &r), TV_OK);
     ac.impact_learn.enable = 0u;
     TV_CHECK_EQ_INT(sim_run(&o, &off), TV_OK);

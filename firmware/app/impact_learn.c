@@ -13,7 +13,8 @@ void il_config_default(il_config_t *cfg)
     if (cfg == NULL) {
         return;
     }
-    cfg->enable = 0u; /* off: README "Impact learning" (a false alarm in the healthy soak) */
+    cfg->enable = 1u; /* on: README "Impact learning" (off while it led P1A04 to a false alarm in the
+                       * healthy soak; since P1A04 skips impact innovations, none in 170,100 s) */
     cfg->v_min_rad_s = TV_R(6.0);
     cfg->arm_margin_rad = TV_R(0.002);
     cfg->contact_max = 30u;

@@ -71,10 +71,11 @@ extern "C" {
 
 /** Configuration. Units SI. */
 typedef struct {
-    uint8_t enable;          /**< 1: learn; 0 (default): the law stays as given. Off because with it on the
-                                  70 s healthy soak confirmed P1A04 (current-sensor bias) on all_varied
-                                  unit 1016 in 3 of 3 paper-sine runs, which it never does with it off
-                                  (README "Impact learning") */
+    uint8_t enable;          /**< 1 (default): learn; 0: the law stays as given. It was off while the 70 s
+                                  healthy soak confirmed P1A04 (current-sensor bias) with it on (all_varied
+                                  unit 1016, paper sine: impact innovations in P1A04's window); P1A04 now
+                                  skips them, and the soak has no false alarm either way (README "Impact
+                                  learning") */
     tv_real_t v_min_rad_s;   /**< least impact speed learned from, > 0; default 6 (a second, slow bounce
                                   of a plate pushed back into the stop is not an impact of its own) */
     tv_real_t arm_margin_rad; /**< armed within |w| Ts + this of an onset, > 0; default 0.002 */
