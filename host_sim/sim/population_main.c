@@ -201,7 +201,7 @@ static int identify_unit(const plant_config_t *pc, app_config_t *ac, uint64_t un
     d.i_A = g.i;
     d.phi_rad = g.phi;
     d.ok = g.ok;
-    d.Ts_s = 1e-3;
+    d.Ts_s = (double)APP_PERIOD_US * 1e-6;
     rc = id_run(&d, NULL, &res);
     if (rc != TV_OK) {
         return rc;
