@@ -15,7 +15,7 @@
 #   usage: tools/run_fault_matrix.sh [--quick | --full] [--plants N] [--seeds S] [--soak-duration S]
 #                                    [--no-soak | --soak-from JSON] [--jobs J]
 #   default  10 units per section, 1 seed, 8 s runs: 150 runs per fault spec, 41 specs (6,300 runs),
-#            and the soak (2,430 runs x 70 s = 170,100 s); about 18 minutes on 2 cores
+#            and the soak (2,430 runs x 70 s = 170,100 s); about 17-19 minutes on 2 cores
 #   --soak-from JSON  take the soak's figures from an earlier tools/run_healthy_soak.sh summary
 #            (out/soak/summary.json) instead of running it
 #   --quick  2 units, drive and closed_steps, 6 s runs, a 5 s-per-run soak; about 30 s

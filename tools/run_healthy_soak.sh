@@ -5,7 +5,7 @@
 # injected; counts the runs in which any diagnostic code was confirmed, and the healthy seconds.
 # Writes out/soak/summary.json and out/soak/runs.csv.
 #   usage: tools/run_healthy_soak.sh [--duration S] [population options ...]
-# Default: 70 s per run x 2,430 runs (9 scenarios) = 170,100 s, about 9 minutes on one core. Never fails on the
+# Default: 70 s per run x 2,430 runs (9 scenarios) = 170,100 s, about 13 minutes on one core. Never fails on the
 # figures; fails only if a step cannot run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
