@@ -235,6 +235,10 @@ static void typed_telemetry(const can_proto_telemetry_t *tm, uint8_t counter)
             expect(m->name, "StopClosed", (double)tm->stop_closed_rad);
             expect(m->name, "StopOpen", (double)tm->stop_open_rad);
             break;
+        case CAN_PROTO_ID_HEALTH_3:
+            expect(m->name, "TrackDiff", (double)tm->tps_diff_rad);
+            expect(m->name, "TrackDiffSd", (double)tm->tps_diff_sd_rad);
+            break;
         case CAN_PROTO_ID_DIAG:
             expect(m->name, "DtcCount", (double)tm->dtc_count);
             expect(m->name, "LastDtc", (double)tm->last_dtc);
@@ -310,6 +314,8 @@ static void telemetry_sets(void)
     a.preload_rel_sigma = 0.0082f;
     a.stop_closed_rad = -0.1234f;
     a.stop_open_rad = 1.4321f;
+    a.tps_diff_rad = -0.00321f;
+    a.tps_diff_sd_rad = 0.000456f;
     a.dtc_count = 2u;
     a.last_dtc = 6u;
     a.last_dtc_status = 1u;
@@ -370,6 +376,8 @@ static void telemetry_sets(void)
     a.preload_rel_sigma = 0.2f;
     a.stop_closed_rad = -0.4f;
     a.stop_open_rad = 1.8f;
+    a.tps_diff_rad = 0.3f;
+    a.tps_diff_sd_rad = 0.065f;
     a.dtc_count = 15u;
     a.last_dtc = CAN_PROTO_DTC_NONE;
     a.last_dtc_status = 2u;

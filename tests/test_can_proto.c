@@ -302,6 +302,8 @@ static void test_telemetry_round_trips_and_saturates(void)
     tm.preload_rel_sigma = 0.0077f;
     tm.stop_closed_rad = -0.0987f;
     tm.stop_open_rad = 1.4567f;
+    tm.tps_diff_rad = -0.012345f;
+    tm.tps_diff_sd_rad = 0.0004567f;
     tm.dtc_count = 3u;
     tm.last_dtc = 7u;
     tm.last_dtc_status = 2u;
@@ -377,6 +379,8 @@ static void test_telemetry_round_trips_and_saturates(void)
     TV_CHECK_EQ_INT(back.last_dtc_status, 2);
     TV_CHECK_EQ_INT(back.dtc_action, 1);
     TV_CHECK_EQ_INT(back.last_dtc_confirmations, 4);
+    TV_CHECK_NEAR(back.tps_diff_rad, -0.012345, 0.5e-5 + 1e-8);
+    TV_CHECK_NEAR(back.tps_diff_sd_rad, 0.0004567, 0.5e-6 + 1e-9);
     TV_CHECK_EQ_INT(back.dtc_mask, 0x0181);
     TV_CHECK_NEAR(back.last_dtc_time_s, 123.4, 1e-4); /* 123.44 s to 0.1 s */
     TV_CHECK_EQ_INT(back.freeze_dtc, 7);
@@ -398,6 +402,17 @@ static void test_telemetry_round_trips_and_saturates(void)
     TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
     TV_CHECK_NEAR(back.stop_closed_rad, 0.0095, 1e-6);
     TV_CHECK_NEAR(back.stop_open_rad, 1.0, 1e-6);
+    /* the track agreement saturates at its field's ends */
+    tm.tps_diff_rad = 1.0f;
+    tm.tps_diff_sd_rad = 0.5f;
+    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_3, &tm, 0u, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_NEAR(back.tps_diff_rad, 0.32767, 1e-6);
+    TV_CHECK_NEAR(back.tps_diff_sd_rad, 0.065535, 1e-7);
+    tm.tps_diff_rad = -1.0f;
+    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_3, &tm, 0u, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_NEAR(back.tps_diff_rad, -0.32768, 1e-6);
 
     /* saturation at both ends and NaN */
     tm.est[0] = 1e6f;
@@ -812,8 +827,8 @@ static void test_telemetry_schedule(void)
             const uint8_t c = can_proto_frame_counter(&frames[i]);
             if (count[idx] == 0u) {
                 /* documented offsets: k ms for k <= EKF_STATS, TV_TIME 0, the health and
-                 * diagnostic frames 8, 9, 18, 19 ms */
-                static const unsigned first_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 0u, 8u, 9u, 18u, 19u};
+                 * diagnostic frames 8, 9, 18, 19 ms, TV_HEALTH_3 28 ms */
+                static const unsigned first_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 0u, 8u, 9u, 18u, 19u, 28u};
                 TV_CHECK_EQ_INT(t, first_ms[idx] * 1000u);
             } else if (c != (uint8_t)((last_ctr[idx] + 1u) & 15u)) {
                 ctr_ok = 0;
@@ -854,6 +869,74 @@ static void health_diag_round_trip(const app_t *app, const app_output_t *out, ca
         TV_CHECK_EQ_INT(can_proto_encode_telemetry(ids[i], &tm, 0u, &f), TV_OK);
         TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, back), CAN_PROTO_RX_ACCEPTED);
     }
+}
+
+/* TV_HEALTH_3 carries the application's track agreement. Track 1 at its limp-home count, track 2
+ * alternating, from one sampled step (every APP_TPS_AGREE_DECIM-th) to the next, between its count
+ * and two counts more (a noisy track): over the first APP_TPS_AGREE_N samples (the running mean,
+ * exact) the mean of phi1 - phi2 is the n0 : n1 weighted mean of the two differences written
+ * from the calibration, and its standard deviation sqrt(n0 n1) / (n0 + n1) times their distance
+ * (two counts of track 2: about one count); a sample with track 2 at its rail is not counted; the
+ * frame decodes to those values within its resolution. */
+static void test_track_agreement_on_health_3(void)
+{
+    static app_t app;
+    app_output_t out;
+    app_input_t in;
+    can_proto_telemetry_t tm;
+    can_proto_telemetry_t back;
+    hal_can_frame_t f;
+    const app_calib_t *c;
+    double d0;
+    double d1;
+    double n0 = 0.0;
+    double n1 = 0.0;
+    double mean;
+    double sd;
+    int k;
+    app_ok(&app);
+    c = &app.cfg.calib;
+    in.adc[0] = (uint16_t)(c->current_offset_counts + TV_R(0.5));
+    in.adc[1] = (uint16_t)(c->tps1_counts_at_zero + TV_R(0.5));
+    in.adc[3] = (uint16_t)(TV_R(13.5) / c->supply_V_per_count + TV_R(0.5));
+    in.driver_fault = 0u;
+    {
+        const uint16_t base2 = (uint16_t)(c->tps2_counts_at_zero + TV_R(0.5));
+        const double phi1 = ((double)in.adc[1] - (double)c->tps1_counts_at_zero) * (double)c->tps1_rad_per_count;
+        d0 = phi1 - ((double)base2 - (double)c->tps2_counts_at_zero) * (double)c->tps2_rad_per_count;
+        d1 = phi1 - ((double)base2 + 2.0 - (double)c->tps2_counts_at_zero) * (double)c->tps2_rad_per_count;
+        for (k = 0; k < (int)(APP_TPS_AGREE_N * APP_TPS_AGREE_DECIM); ++k) {
+            const int high = (k / (int)APP_TPS_AGREE_DECIM) % 2 == 1;
+            in.adc[2] = (uint16_t)(base2 + (high ? 2u : 0u));
+            if (app.n_steps % APP_TPS_AGREE_DECIM == 0u) { /* a sampled step */
+                n1 += high ? 1.0 : 0.0;
+                n0 += high ? 0.0 : 1.0;
+            }
+            in.t_us = (uint64_t)k * 1000u;
+            app_step(&app, &in, &out);
+            if (k == 0) {
+                TV_CHECK_NEAR(out.tps_diff_rad, d0, 1e-6);
+                TV_CHECK_NEAR(out.tps_diff_sd_rad, 0.0, 0.0);
+            }
+        }
+        /* track 2 at its rail on the next sampled step: implausible, not counted */
+        TV_CHECK_EQ_INT(app.n_steps % APP_TPS_AGREE_DECIM, 0);
+        in.adc[2] = 4095u;
+        in.t_us = (uint64_t)k * 1000u;
+        app_step(&app, &in, &out);
+    }
+    TV_CHECK(n0 + n1 == (double)APP_TPS_AGREE_N && n0 > 50.0 && n1 > 50.0);
+    mean = (n0 * d0 + n1 * d1) / (n0 + n1);
+    sd = sqrt(n0 * n1) / (n0 + n1) * fabs(d1 - d0);
+    TV_CHECK_NEAR(out.tps_diff_rad, mean, 1e-7);
+    TV_CHECK_NEAR(out.tps_diff_sd_rad, sd, 1e-7);
+    TV_CHECK(fabs(d1 - d0) > 5e-4 && sd > 4e-4); /* two counts apart: the test sees the spread */
+    memset(&tm, 0, sizeof tm);
+    can_proto_telemetry_from_app(&app, &out, &tm);
+    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_3, &tm, 0u, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_NEAR(back.tps_diff_rad, mean, 0.5e-5 + 1e-7);
+    TV_CHECK_NEAR(back.tps_diff_sd_rad, sd, 0.5e-6 + 1e-7);
 }
 
 /* The health frames carry the application output's adapted parameters and stops; the
@@ -981,5 +1064,6 @@ int main(void)
     TV_TEST_RUN(test_telemetry_schedule);
     TV_TEST_RUN(test_ekf_stats_window_mean);
     TV_TEST_RUN(test_health_and_diag_frames_follow_the_application);
+    TV_TEST_RUN(test_track_agreement_on_health_3);
     return tv_test_summary();
 }

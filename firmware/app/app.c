@@ -771,6 +771,19 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         /* the tracks can only disagree when both are there */
         const int f_dis = !t1_lost && !t2_lost && TV_FABS(phi1 - phi2) > lim->tps_disagree_max_rad;
         const int f_sup = out->supply_V < lim->supply_min_V || out->supply_V > lim->supply_max_V;
+        if (!t1_lost && !t2_lost && app->n_steps % APP_TPS_AGREE_DECIM == 0u) {
+            /* track agreement: a running mean and variance of phi1 - phi2 over the first
+             * APP_TPS_AGREE_N samples, exponentially weighted with 1 / that after */
+            const tv_real_t d = phi1 - phi2 - app->tps_diff_mean;
+            tv_real_t a;
+            if (app->tps_diff_n < APP_TPS_AGREE_N) {
+                ++app->tps_diff_n;
+            }
+            a = TV_R(1.0) / (tv_real_t)app->tps_diff_n;
+            app->tps_diff_mean += a * d;
+            app->tps_diff_var = (TV_R(1.0) - a) * (app->tps_diff_var + a * d * d);
+            app->tps_diff_sd = TV_SQRT(app->tps_diff_var);
+        }
         debounce(app, CHK_CURRENT, f_cur);
         debounce(app, CHK_TPS1, f_t1);
         debounce(app, CHK_TPS2, f_t2);
@@ -953,6 +966,8 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         out->preload_rel = TV_R(1.0) + mp;
     }
     ekf_stops(&app->ekf, &out->stop_closed_rad, &out->stop_open_rad);
+    out->tps_diff_rad = app->tps_diff_mean;
+    out->tps_diff_sd_rad = app->tps_diff_sd;
     app_diag_post(app, &dsnap, out, tq_ok, w_pred); /* diagnostics after the control law: the codes' actions, jam check */
     out->faults = app->faults;
     ++app->n_steps;

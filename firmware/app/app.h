@@ -34,6 +34,13 @@ extern "C" {
 
 /** Application period [us]. */
 #define APP_PERIOD_US 1000u
+/** Track agreement (app_output_t::tps_diff_rad): the difference of the two calibrated tracks is
+ *  taken every APP_TPS_AGREE_DECIM-th step (the steps whose app_t::n_steps is a multiple of it:
+ *  a trend needs no 1 kHz, and the Cortex-M4F step has 34 instructions to spare) and averaged over
+ *  APP_TPS_AGREE_N such samples, 1 s: long against the sensor noise (a count, 0.45 mrad, per
+ *  track), short against the wear of a track's wiper that it is there to trend. */
+#define APP_TPS_AGREE_DECIM 8u
+#define APP_TPS_AGREE_N 125u
 /** Upper bound of app_limits_t::max_gap_periods. */
 #define APP_MAX_GAP_PERIODS 100u
 
@@ -182,6 +189,11 @@ typedef struct {
     tv_real_t preload_rel_sigma;  /**< its standard deviation [-]; 0 when the filter has no preload-error state */
     tv_real_t stop_closed_rad;    /**< the estimator's closed-stop contact onset in use (learned, then tracked) [rad] */
     tv_real_t stop_open_rad;      /**< its open-stop contact onset in use [rad] */
+    tv_real_t tps_diff_rad;       /**< track agreement (condition monitoring): mean of phi1 - phi2 over the
+                                       last APP_TPS_AGREE_N samples (every APP_TPS_AGREE_DECIM-th step)
+                                       with both tracks plausible (exponentially weighted; a running
+                                       mean until that many) [rad]; 0 before the first */
+    tv_real_t tps_diff_sd_rad;    /**< the standard deviation of phi1 - phi2 over the same samples [rad] */
     ekf_innov_t innov;     /**< innovations, their variances, NIS */
     int ekf_status;        /**< status of this step's correction (0 ok) */
     uint32_t faults;       /**< latched APP_FAULT_* mask */
@@ -235,6 +247,10 @@ typedef struct {
     diag_t diag;              /**< diagnostic codes; the platform drains its events (diag_event_pop()) */
     diag_detect_t ddet;       /**< the detectors' state */
     uint8_t diag_bridge_on;   /**< 1: the bridge drove the period now ending (the open-winding check's condition) */
+    tv_real_t tps_diff_mean;  /**< track agreement: weighted mean of phi1 - phi2 [rad] (app_output_t::tps_diff_rad) */
+    tv_real_t tps_diff_var;   /**< its weighted variance [rad^2] */
+    tv_real_t tps_diff_sd;    /**< sqrt(tps_diff_var) [rad] (app_output_t::tps_diff_sd_rad) */
+    uint32_t tps_diff_n;      /**< samples in it, saturating at APP_TPS_AGREE_N */
 } app_t;
 
 /**

@@ -26,6 +26,7 @@
  *   0x18A  TV_HEALTH_2          TV->bench  100 ms (condition monitoring: spring preload, stops)
  *   0x18B  TV_DIAG              TV->bench  100 ms (diagnostic codes: count, last confirmed, action)
  *   0x18C  TV_DIAG_FREEZE       TV->bench  100 ms (freeze frame of the last confirmed code)
+ *   0x18D  TV_HEALTH_3          TV->bench  100 ms (condition monitoring: position-track agreement)
  *
  * Every frame starts with the same protection header (AUTOSAR E2E profile 1 layout):
  *   bits 0..7   CRC      CRC-8 SAE J1850: polynomial 0x1D, initial value 0xFF, final XOR 0xFF,
@@ -110,6 +111,12 @@
  *                                                              (stop learning accepts -0.30..-0.02)
  *     StopOpen          50|13    0.0001 rad, offset 1.0   [1.0, 1.8191]   open-stop contact onset in use
  *                                                              (stop learning accepts 1.10..1.70)
+ *   TV_HEALTH_3 0x18D (condition monitoring, the position tracks' agreement over the last second,
+ *   app_output_t::tps_diff_rad; bits 12..15 and 48..63 reserved; a value beyond its field saturates)
+ *     TrackDiff         16|16s   1e-5 rad         [-0.32768, 0.32767]  mean of phi1 - phi2 (calibrated
+ *                                                              tracks; the plausibility limit is 0.035)
+ *     TrackDiffSd       32|16    1e-6 rad         [0, 0.065535]  its standard deviation (a healthy pair:
+ *                                                              about the two tracks' quantisation)
  *   TV_DIAG 0x18B (diagnostic codes, firmware/diag/diag.h; code index = diag_dtc_t, 15 = none)
  *     DtcCount          12|4     1                [0, 15]  codes confirmed now
  *     LastDtc           16|4     1                [0, 15]  the code confirmed most recently since start (15: none)
@@ -195,6 +202,7 @@ extern "C" {
 #define CAN_PROTO_ID_HEALTH_2 0x18Au
 #define CAN_PROTO_ID_DIAG 0x18Bu
 #define CAN_PROTO_ID_DIAG_FREEZE 0x18Cu
+#define CAN_PROTO_ID_HEALTH_3 0x18Du
 /** Platform frame of the Cortex-M4F ECU: CPU load of the control step (DWT cycles). Listed in
  *  the frame table and the DBC, but not scheduled by the node: the ECU sends it itself every
  *  CAN_PROTO_ECU_CPU_PERIOD_MS with can_proto_encode_ecu_cpu(). */
@@ -211,7 +219,7 @@ extern "C" {
 
 /** Number of command frames and of telemetry frames. */
 #define CAN_PROTO_N_CMD 2u
-#define CAN_PROTO_N_TX 13u
+#define CAN_PROTO_N_TX 14u
 /** Platform frames in the table after the telemetry (TV_ECU_CPU). */
 #define CAN_PROTO_N_PLATFORM 1u
 /** Most signals in one frame, CRC and counter included. */
@@ -237,7 +245,8 @@ enum {
     CAN_PROTO_TX_HEALTH_1 = 9,
     CAN_PROTO_TX_HEALTH_2 = 10,
     CAN_PROTO_TX_DIAG = 11,
-    CAN_PROTO_TX_DIAG_FREEZE = 12
+    CAN_PROTO_TX_DIAG_FREEZE = 12,
+    CAN_PROTO_TX_HEALTH_3 = 13
 };
 
 /** One signal of a frame, as in the DBC: physical = raw * scale + offset. */
@@ -330,6 +339,8 @@ typedef struct {
     float preload_rel_sigma;  /**< its standard deviation [-] */
     float stop_closed_rad;    /**< closed-stop contact onset in use [rad] */
     float stop_open_rad;      /**< open-stop contact onset in use [rad] */
+    float tps_diff_rad;       /**< TV_HEALTH_3: mean of phi1 - phi2 over the last second [rad] */
+    float tps_diff_sd_rad;    /**< its standard deviation [rad] */
     /* diagnostic codes (TV_DIAG, TV_DIAG_FREEZE) */
     uint8_t dtc_count;        /**< codes confirmed now, 0..15 */
     uint16_t dtc_mask;        /**< bit k: code k confirmed now */
@@ -508,7 +519,7 @@ void can_proto_node_update(can_proto_node_t *node, app_t *app, const app_output_
  * The telemetry frames due at t_us, encoded into frames[0..n-1], in CAN_PROTO_TX_* order except
  * TV_TIME, which comes last (after the other frames of its tick). The
  * first call sets the time base; frame k (k <= CAN_PROTO_TX_EKF_STATS) is first sent k ms later
- * (staggered), TV_HEALTH_1, TV_HEALTH_2, TV_DIAG, TV_DIAG_FREEZE at 8, 9, 18, 19 ms (so with the
+ * (staggered), TV_HEALTH_1, TV_HEALTH_2, TV_DIAG, TV_DIAG_FREEZE, TV_HEALTH_3 at 8, 9, 18, 19, 28 ms (so with the
  * default periods no two ids share a tick), except TV_TIME,
  * which is scheduled like TV_EST_STATE (offset 0, and its own period_ms: keep them equal to
  * pair them); then every period_ms. A late call sends each due frame once (no catching up).

@@ -121,6 +121,10 @@ int can_host_decode_telemetry(const hal_can_frame_t *frame, can_proto_telemetry_
         tm->stop_closed_rad = p[4];
         tm->stop_open_rad = p[5];
         break;
+    case CAN_PROTO_ID_HEALTH_3:
+        tm->tps_diff_rad = p[2];
+        tm->tps_diff_sd_rad = p[3];
+        break;
     case CAN_PROTO_ID_DIAG:
         tm->dtc_count = (uint8_t)u32_of(p[2]);
         tm->last_dtc = (uint8_t)u32_of(p[3]);
