@@ -71,6 +71,14 @@ static void app_ok(app_t *app)
 }
 
 /* One application step with the plate at rest at limp-home (counts of the default calibration). */
+/* Encode frame id from tm and decode it back into *back (both must succeed). */
+static void round_trip(uint32_t id, const can_proto_telemetry_t *tm, can_proto_telemetry_t *back)
+{
+    hal_can_frame_t f;
+    TV_CHECK_EQ_INT(can_proto_encode_telemetry(id, tm, 0u, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, back), CAN_PROTO_RX_ACCEPTED);
+}
+
 static void step_at_rest(app_t *app, uint64_t t_us, app_output_t *out)
 {
     app_input_t in;
@@ -392,26 +400,22 @@ static void test_telemetry_round_trips_and_saturates(void)
     /* the offset fields saturate at their ends: a stop beyond the documented range */
     tm.stop_closed_rad = -1.0f;
     tm.stop_open_rad = 2.5f;
-    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_2, &tm, 0u, &f), TV_OK);
-    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    round_trip(CAN_PROTO_ID_HEALTH_2, &tm, &back);
     TV_CHECK_NEAR(back.stop_closed_rad, -0.4, 1e-6);
     TV_CHECK_NEAR(back.stop_open_rad, 1.8191, 1e-5);
     tm.stop_closed_rad = 0.5f;
     tm.stop_open_rad = 0.0f;
-    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_2, &tm, 0u, &f), TV_OK);
-    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    round_trip(CAN_PROTO_ID_HEALTH_2, &tm, &back);
     TV_CHECK_NEAR(back.stop_closed_rad, 0.0095, 1e-6);
     TV_CHECK_NEAR(back.stop_open_rad, 1.0, 1e-6);
     /* the track agreement saturates at its field's ends */
     tm.tps_diff_rad = 1.0f;
     tm.tps_diff_sd_rad = 0.5f;
-    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_3, &tm, 0u, &f), TV_OK);
-    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    round_trip(CAN_PROTO_ID_HEALTH_3, &tm, &back);
     TV_CHECK_NEAR(back.tps_diff_rad, 0.32767, 1e-6);
     TV_CHECK_NEAR(back.tps_diff_sd_rad, 0.065535, 1e-7);
     tm.tps_diff_rad = -1.0f;
-    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_3, &tm, 0u, &f), TV_OK);
-    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    round_trip(CAN_PROTO_ID_HEALTH_3, &tm, &back);
     TV_CHECK_NEAR(back.tps_diff_rad, -0.32768, 1e-6);
 
     /* saturation at both ends and NaN */
@@ -885,7 +889,6 @@ static void test_track_agreement_on_health_3(void)
     app_input_t in;
     can_proto_telemetry_t tm;
     can_proto_telemetry_t back;
-    hal_can_frame_t f;
     const app_calib_t *c;
     double d0;
     double d1;
@@ -933,8 +936,7 @@ static void test_track_agreement_on_health_3(void)
     TV_CHECK(fabs(d1 - d0) > 5e-4 && sd > 4e-4); /* two counts apart: the test sees the spread */
     memset(&tm, 0, sizeof tm);
     can_proto_telemetry_from_app(&app, &out, &tm);
-    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_3, &tm, 0u, &f), TV_OK);
-    TV_CHECK_EQ_INT(can_host_decode_telemetry(&f, &back), CAN_PROTO_RX_ACCEPTED);
+    round_trip(CAN_PROTO_ID_HEALTH_3, &tm, &back);
     TV_CHECK_NEAR(back.tps_diff_rad, mean, 0.5e-5 + 1e-7);
     TV_CHECK_NEAR(back.tps_diff_sd_rad, sd, 0.5e-6 + 1e-7);
 }
