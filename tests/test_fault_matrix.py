@@ -83,6 +83,8 @@ def synthetic(d):
     check(s["per_scenario"]["jam/drive"]["detection_rate"] == 1.0, "per scenario: drive 3 of 3")
     check(s["per_scenario"]["jam/closed_steps"]["detection_rate"] == 0.5, "per scenario: closed_steps 1 of 2")
     check("param_rel_err_median" not in j, "no parameter error for a jam")
+    # every jam run lasts 8 s from an onset at 2.0 s: 6 s observed
+    check(j["observed_after_onset_s"] == [6.0, 6.0], "observed after the onset: 6 s")
     # resistance errors at the end: |5.1/5 - 1| = 2 %, |4.85/5 - 1| = 3 %, |6.6/6 - 1| = 10 %
     head = HEAD[:-2] + ["r_est_ohm", "r_true_ohm"] + HEAD[-2:]
     with open(os.path.join(d, "runs", "winding_resistance_high:1.25.csv"), "w", newline="") as f:
@@ -96,6 +98,9 @@ def synthetic(d):
     check(abs(r["param_rel_err_median"] - 0.03) < 1e-9, "resistance error median 3 %")
     check(abs(r["param_rel_err_p95"] - 0.10) < 1e-9, "resistance error p95 10 %")
     check(r["detection_rate"] == 0.0 and r["runs"] == 3, "no code: not detected")
+    md = open(os.path.join(d, "matrix.md")).read()
+    check("| winding_resistance_high:1.25 | winding_resistance_high | 3 | 6 | 0 % |" in md,
+          "matrix.md gives the time observed after the onset per fault")
 
 
 def real(d, pop):

@@ -10,6 +10,8 @@ summary (tools/run_healthy_soak.sh). Writes DIR/summary.json and DIR/matrix.md.
 Definitions (per run of an injected fault with onset t0):
   detected   a code of the injected fault's class was confirmed at or after t0;
   delay      that code's first confirmation - t0 [s];
+  observed   the run's duration - t0 [s]: how long the detectors had (per fault spec, the
+             range over its runs: "observed_after_onset_s" [min, max]);
   isolated   the FIRST code confirmed at or after t0 belongs to the injected class (the ECU acts
              on the first code, so a wrong first code is a mis-isolation even if the right one
              follows);
@@ -73,6 +75,7 @@ class Tally:
         self.runs = self.detected = self.isolated = self.any_code = self.early = 0
         self.delays = []
         self.param_err = []
+        self.observed = []
 
     def add(self, res):
         self.runs += 1
@@ -82,6 +85,8 @@ class Tally:
         self.early += res["early"]
         if res["detected"]:
             self.delays.append(res["delay"])
+        if res.get("observed") is not None:
+            self.observed.append(res["observed"])
         if res.get("param_err") is not None:
             self.param_err.append(res["param_err"])
 
@@ -94,6 +99,7 @@ class Tally:
         self.any_code += other.any_code
         self.early += other.early
         self.delays += other.delays
+        self.observed += other.observed
 
     def json(self):
         d = {
@@ -106,6 +112,7 @@ class Tally:
             "isolation_rate_of_alarms": self.isolated / self.any_code if self.any_code else None,
             "runs_with_a_code": self.any_code,
             "runs_with_a_code_before_onset": self.early,
+            "observed_after_onset_s": [min(self.observed), max(self.observed)] if self.observed else None,
         }
         if self.param_err:
             d["param_rel_err_median"] = pct(self.param_err, 50)
@@ -135,6 +142,7 @@ def judge(row):
         "first_class": first_class,
         "early": any(c[0] < t0 - 1e-9 for c in codes),
         "param_err": param_err,
+        "observed": float(row["duration_s"]) - t0 if row.get("duration_s") not in (None, "") else None,
     }
 
 
@@ -221,13 +229,15 @@ def main():
         "-" if j["isolation_rate_of_alarms"] is None else "%.1f %%" % (100 * j["isolation_rate_of_alarms"]),
         j["runs_with_a_code_before_onset"]))
     lines += ["", "## Per fault and magnitude", "",
-              "| fault | class | runs | detected | delay median [ms] | delay p95 [ms] | isolated | parameter error median / p95 at the end |", "|---|---|---|---|---|---|---|---|"]
+              "| fault | class | runs | observed after onset [s] | detected | delay median [ms] | delay p95 [ms] | isolated | parameter error median / p95 at the end |", "|---|---|---|---|---|---|---|---|---|"]
     for (c, spec) in sorted(per_spec):
         j = per_spec[(c, spec)].json()
         perr = ("%.1f / %.1f %%" % (100 * j["param_rel_err_median"], 100 * j["param_rel_err_p95"])
                 if "param_rel_err_median" in j else "-")
-        lines.append("| %s | %s | %d | %.0f %% | %s | %s | %.0f %% | %s |" % (
-            spec, c, j["runs"], 100 * j["detection_rate"], fmt(j["delay_median_s"], 1e3), fmt(j["delay_p95_s"], 1e3),
+        obs = j["observed_after_onset_s"]
+        obs_txt = "-" if obs is None else ("%g" % obs[0] if obs[0] == obs[1] else "%g-%g" % (obs[0], obs[1]))
+        lines.append("| %s | %s | %d | %s | %.0f %% | %s | %s | %.0f %% | %s |" % (
+            spec, c, j["runs"], obs_txt, 100 * j["detection_rate"], fmt(j["delay_median_s"], 1e3), fmt(j["delay_p95_s"], 1e3),
             100 * j["isolation_rate"], perr))
     lines += ["", "## Per fault class and scenario: detected / isolated", "",
               "| class | " + " | ".join(sorted(scenarios)) + " |", "|---|" + "---|" * len(scenarios)]
