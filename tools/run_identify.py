@@ -11,7 +11,7 @@ For each unit (IDs from 1000, every third of class b, spread `all`; host_sim/pla
      times: with the class's nominal model (what host_sim --unit does), with the identified
      parameter file, and with the unit's TRUE parameters (plant values; the contact law capped
      at the stiffest law the model keeps stable, 1e4 N m/rad secant at 2.5 mrad, as stop learning
-     caps it, damping 0.16 s/rad x k); the velocity RMSEs are compared.
+     caps it, with the unit's own damping ratio lambda / k); the velocity RMSEs are compared.
 Writes out/identify/summary.json (per-parameter error statistics, the fraction within the
 issue's targets, the velocity-RMSE ratios identified / true) and prints the tables.
     usage: tools/run_identify.sh [--units N] [--first-unit ID] [--scenarios a,b] [--out DIR]
@@ -46,10 +46,10 @@ PARAMS = [
     ("phi_closed", "model.phi_closed_rad", "plant.phi_closed_rad", "abs", 0.005),
     ("phi_open", "model.phi_open_rad", "plant.phi_open_rad", "abs", 0.005),
     ("stop_exponent", "model.stop_exponent", "plant.stop_exponent", "abs", None),
+    ("stop_damping", "stop_damping_ratio", "stop_damping_ratio", "rel", None),  # lambda / k [s/rad]
 ]
 K_SECANT_MAX = 1e4   # stop learning's k_max (sl_config_default), secant at 2.5 mrad
 P_REF = 0.0025
-LAMBDA_PER_K = 0.16  # stop learning's lambda_per_k_s_rad
 
 
 def run(cmd, **kw):
@@ -82,7 +82,7 @@ def true_params(plant):
     k = min(plant["plant.stop_k_Nm_rad"], K_SECANT_MAX * P_REF ** (1.0 - e))
     keys["model.stop_exponent"] = e
     keys["model.k_stop_Nm_rad"] = k
-    keys["model.d_stop_Nm_s_rad"] = LAMBDA_PER_K * k
+    keys["model.d_stop_Nm_s_rad"] = plant["plant.stop_lambda_Nm_s_rad"] / plant["plant.stop_k_Nm_rad"] * k
     return "".join("%s = %.17g\n" % kv for kv in keys.items())
 
 
@@ -135,6 +135,10 @@ def main():
                                    "all", "--print-plant-params"]).stdout)
             with open(tfile, "w") as f:
                 f.write(true_params(plant))
+            # the damping ratio lambda / k: the model's d_stop / k_stop, the plant's lambda / k
+            if "model.d_stop_Nm_s_rad" in ident and ident.get("model.k_stop_Nm_rad", 0.0) > 0.0:
+                ident["stop_damping_ratio"] = ident["model.d_stop_Nm_s_rad"] / ident["model.k_stop_Nm_rad"]
+            plant["stop_damping_ratio"] = plant["plant.stop_lambda_Nm_s_rad"] / plant["plant.stop_k_Nm_rad"]
             errs = {}
             for name, mkey, pkey, kind, _ in PARAMS:
                 if mkey not in ident:

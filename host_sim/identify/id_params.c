@@ -71,9 +71,19 @@ int id_write_params(FILE *f, const char *log_name, const id_result_t *r, double 
     put_param(f, "model.phi_open_rad", r, ID_P_PHI_OPEN, 1.0);
     put_param(f, "model.k_stop_Nm_rad", r, ID_P_K_STOP, 1.0);
     put_param(f, "model.stop_exponent", r, ID_P_STOP_EXP, 1.0);
-    put_key(f, "model.d_stop_Nm_s_rad", stops ? (double)slc.lambda_per_k_s_rad * r->value[ID_P_K_STOP] : 0.0, stops,
-            stops ? "not identified (the rebound is too short to fit): lambda = 0.16 s/rad x k, the stop-learning rule"
-                  : "the contact law was not identified");
+    if (stops) {
+        /* d_stop = (lambda / k) x k: the impacts' damping ratio, else the stop-learning rule's */
+        char note[ID_WHY_MAX + 64];
+        const double ratio = r->identified[ID_P_STOP_DAMP] ? r->value[ID_P_STOP_DAMP] : (double)slc.lambda_per_k_s_rad;
+        if (r->identified[ID_P_STOP_DAMP]) {
+            (void)snprintf(note, sizeof note, "identified by the impacts: lambda / k = %.3g s/rad", ratio);
+        } else {
+            (void)snprintf(note, sizeof note, "lambda / k = %.3g s/rad: %s", ratio, r->why[ID_P_STOP_DAMP]);
+        }
+        put_key(f, "model.d_stop_Nm_s_rad", ratio * r->value[ID_P_K_STOP], 1, note);
+    } else {
+        put_key(f, "model.d_stop_Nm_s_rad", 0.0, 0, "the contact law was not identified");
+    }
     {
         /* the diagnostic bounds relative to the unit's own model: only when the motor, the
          * inertia, the friction and the springs are all the unit's (identified), since those

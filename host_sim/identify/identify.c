@@ -16,6 +16,7 @@
 #include <gsl/gsl_statistics_double.h>
 
 #include "stop_learn.h"
+#include "tv_model.h"
 #include "tv_status.h"
 
 /** Most columns of a linear fit. */
@@ -60,11 +61,20 @@
 #define ID_WS_GRID 25
 /** Exponents of the contact-law grid (1.0 .. 2.0). */
 #define ID_EXP_GRID 21
+/** Impacts (step 4): samples replayed before the onset's crossing, and in all. */
+#define ID_IMP_PRE 15u
+#define ID_IMP_LEN 45u
+/** Impacts: the plate crosses the onset at least this fast [rad/s], from at least this far inside [rad]. */
+#define ID_IMP_W_MIN 1.0
+#define ID_IMP_INSIDE_RAD 0.02
+/** Damping ratios lambda / k tried by the impacts [s/rad]: 0.04 .. 0.64 in steps of 2^(1/4) (the
+ *  population draws 0.05 .. 0.5; impact learning keeps 0.04 .. 0.8). */
+#define ID_DAMP_GRID 17
 
 static const char *const s_names[ID_P_COUNT] = {"R", "L", "nKe = nKt", "J", "M0", "c", "Mc", "Ms", "ws", "Kv",
-                                                "phi_closed", "phi_open", "k_stop", "stop_exponent"};
+                                                "phi_closed", "phi_open", "k_stop", "stop_exponent", "stop_damping"};
 static const char *const s_units[ID_P_COUNT] = {"ohm", "H", "V s/rad", "kg m^2", "N m", "N m/rad", "N m", "N m",
-                                                "rad/s", "N m s/rad", "rad", "rad", "N m/rad^e", "-"};
+                                                "rad/s", "N m s/rad", "rad", "rad", "N m/rad^e", "-", "s/rad"};
 
 const char *id_param_name(id_param_t p)
 {
@@ -714,7 +724,15 @@ static int dithered_before(const id_data_t *d, size_t k0)
     return umax - umin > ID_DITHER_SWING_V && k0 >= ID_DITHER_LOOKBACK;
 }
 
-static int fit_stops(const id_data_t *d, id_result_t *res)
+/* The static fit's contact laws, one per exponent of the grid (at the friction factor chosen):
+ * what step 4 (refine_contact()) chooses among by the impacts. sse HUGE_VAL: no law. */
+typedef struct {
+    double a0[ID_EXP_GRID][2];
+    double k[ID_EXP_GRID][2];
+    double sse[ID_EXP_GRID];
+} id_laws_t;
+
+static int fit_stops(const id_data_t *d, id_result_t *res, id_laws_t *laws)
 {
     const size_t nb_max = d->n / ID_BLOCK + 1u;
     double *F[2];
@@ -729,6 +747,7 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
     double cand_e = 1.0;
     double cand_a0[2] = {(double)NAN, (double)NAN};
     double cand_k[2] = {(double)NAN, (double)NAN};
+    id_laws_t tab;
     int episode = -1;        /* the stop of the current rest episode, -1: none */
     double ep_max = -HUGE_VAL; /* the largest push of the episode so far [N m] */
     const double Mc = res->identified[ID_P_MC] ? res->value[ID_P_MC] : 0.0;
@@ -771,6 +790,7 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
         mark(res, ID_P_PHI_OPEN, NAN, NAN, 0, "needs n Kt and the springs, which were not identified");
         mark(res, ID_P_K_STOP, NAN, NAN, 0, "needs n Kt and the springs, which were not identified");
         mark(res, ID_P_STOP_EXP, NAN, NAN, 0, "needs n Kt and the springs, which were not identified");
+        mark(res, ID_P_STOP_DAMP, NAN, NAN, 0, "needs n Kt and the springs, which were not identified");
         goto out;
     }
     /* Rest blocks: still, steady voltage, at an end of the travel, pressed into it. Friction holds
@@ -938,6 +958,11 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
                     sse += r * r;
                 }
             }
+            tab.a0[j][0] = a0[0];
+            tab.a0[j][1] = a0[1];
+            tab.k[j][0] = kk[0];
+            tab.k[j][1] = kk[1];
+            tab.sse[j] = (isfinite(a0[0]) || isfinite(a0[1])) ? sse : HUGE_VAL;
             if (sse < best_sse && (isfinite(a0[0]) || isfinite(a0[1]))) {
                 best_sse = sse;
                 best_e = e;
@@ -955,6 +980,7 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
             cand_e = best_e;
             memcpy(cand_a0, best_a0, sizeof cand_a0);
             memcpy(cand_k, best_k, sizeof cand_k);
+            *laws = tab;
         }
     }
     build_forces(Pr, Sr, Ar, nr, cand_fr * Mc, F, A, nb, f_lo, f_hi);
@@ -1018,10 +1044,14 @@ static int fit_stops(const id_data_t *d, id_result_t *res)
             const char *why = "too little excitation: both stops need rest blocks spanning 0.2 N m of contact force";
             mark(res, ID_P_K_STOP, NAN, NAN, 0, why);
             mark(res, ID_P_STOP_EXP, NAN, NAN, 0, why);
+            mark(res, ID_P_STOP_DAMP, NAN, NAN, 0, why);
         } else {
             /* the geometric mean of the two stops' stiffness, as the stop-learning routine */
             mark(res, ID_P_K_STOP, exp(lk / (double)nk), NAN, 1, "");
             mark(res, ID_P_STOP_EXP, best_e, NAN, 1, "");
+            /* until the impacts (refine_contact()) choose it: the stop-learning rule */
+            mark(res, ID_P_STOP_DAMP, (double)slc.lambda_per_k_s_rad, NAN, 0,
+                 "not identified (too few impacts at each stop): 0.16 s/rad, the stop-learning rule");
         }
     }
 out:
@@ -1035,6 +1065,185 @@ out:
         free(Ar[s]);
     }
     return rc;
+}
+
+/* Step 4 (identify.h): the squared angle error of the impacts k0[0..nimp) under the contact law
+ * of p: the model's plate equation over the prediction map's sub-steps (explicit torques,
+ * friction as a soft threshold, implicit viscous term, symplectic angle; tv_model.h), driven by
+ * the MEASURED current interpolated across each period, from the smoothed state at k0. */
+static double impact_sse(const id_data_t *d, const id_sig_t *sg, const tvm_params_t *p, const size_t *k0, size_t nimp)
+{
+    enum { NSUB = 10 };
+    tvm_t m;
+    double sse = 0.0;
+    size_t q;
+    const double h = d->Ts_s / (double)NSUB;
+    const double nKt = (double)(p->n_gear * p->Kt_Nm_A);
+    const double J = (double)p->J_kg_m2;
+    const double kappa = 1.0 / (1.0 + h * (double)p->Kv_Nm_s_rad / J);
+    if (tvm_init(&m, p) != TV_OK) {
+        return HUGE_VAL;
+    }
+    for (q = 0; q < nimp; ++q) {
+        double w = sg->w[k0[q]];
+        double phi = sg->phi[k0[q]];
+        size_t k;
+        for (k = k0[q]; k < k0[q] + ID_IMP_LEN; ++k) {
+            int j;
+            double e;
+            for (j = 0; j < NSUB; ++j) {
+                const double fr = ((double)j + 0.5) / (double)NSUB;
+                const double i = (1.0 - fr) * d->i_A[k] + fr * d->i_A[k + 1u];
+                const double T = nKt * i - (double)tvm_spring_torque(p, (tv_real_t)phi) +
+                                 (double)tvm_stop_torque(&m, (tv_real_t)phi, (tv_real_t)w);
+                const double z = w + h / J * T;
+                const double D = h / J * (double)tvm_friction_level(&m, (tv_real_t)w);
+                w = kappa * (z > D ? z - D : (z < -D ? z + D : 0.0));
+                phi += h * w;
+            }
+            e = phi - d->phi_rad[k + 1u];
+            sse += e * e;
+        }
+    }
+    return sse;
+}
+
+/* Step 4 (identify.h): the contact law, among the static fit's, that replays the log's impacts
+ * best, with its damping ratio. Leaves res as it is when there are too few impacts or a
+ * parameter the replay needs was not identified. */
+static int refine_contact(const id_data_t *d, const id_sig_t *sg, const id_laws_t *laws, id_result_t *res,
+                          FILE *progress)
+{
+    static const id_param_t need[] = {ID_P_R, ID_P_NKE, ID_P_J, ID_P_M0, ID_P_C, ID_P_MC, ID_P_MS, ID_P_KV,
+                                      ID_P_PHI_CLOSED, ID_P_PHI_OPEN, ID_P_K_STOP, ID_P_STOP_EXP};
+    const double lo = res->value[ID_P_PHI_CLOSED];
+    const double hi = res->value[ID_P_PHI_OPEN];
+    size_t n_side[2] = {0u, 0u};
+    size_t nimp = 0;
+    size_t *k0;
+    size_t k;
+    size_t q;
+    int j;
+    int bj = -1;
+    double best = HUGE_VAL;
+    double bdamp = 0.0;
+    tvm_params_t p;
+    sl_config_t slc;
+    for (q = 0; q < sizeof need / sizeof need[0]; ++q) {
+        if (!res->identified[need[q]]) {
+            return TV_OK;
+        }
+    }
+    k0 = (size_t *)malloc((d->n / ID_IMP_LEN + 1u) * sizeof(size_t));
+    if (k0 == NULL) {
+        return TV_ERR_IO;
+    }
+    /* the impacts: the measured angle crosses an onset, the smoothed state ID_IMP_PRE samples
+     * before it in free travel toward it, every sample of the segment usable; one per segment */
+    for (k = ID_IMP_PRE; k + ID_IMP_LEN + 1u < d->n; ++k) {
+        const double a = d->phi_rad[k];
+        const double b = d->phi_rad[k + 1u];
+        const size_t s0 = k + 1u - ID_IMP_PRE;
+        int ok = (a > lo && b <= lo) || (a < hi && b >= hi);
+        size_t r;
+        if (!ok || !sg->win[s0] || fabs(sg->w[s0]) < ID_IMP_W_MIN || sg->phi[s0] < lo + ID_IMP_INSIDE_RAD ||
+            sg->phi[s0] > hi - ID_IMP_INSIDE_RAD) {
+            continue;
+        }
+        for (r = s0; r <= s0 + ID_IMP_LEN && ok; ++r) {
+            ok = d->ok[r] != 0u;
+        }
+        if (!ok) {
+            continue;
+        }
+        ++n_side[b <= lo ? 0 : 1];
+        k0[nimp++] = s0;
+        k = s0 + ID_IMP_LEN;
+    }
+    res->n_impacts = nimp;
+    if (n_side[0] < 2u || n_side[1] < 2u) {
+        free(k0);
+        return TV_OK;
+    }
+    sl_config_default(&slc);
+    tvm_params_default(&p);
+    p.R_ohm = (tv_real_t)res->value[ID_P_R];
+    if (res->identified[ID_P_L]) {
+        p.L_H = (tv_real_t)res->value[ID_P_L];
+    }
+    p.Kt_Nm_A = (tv_real_t)(res->value[ID_P_NKE] / (double)p.n_gear);
+    p.Ke_V_s_rad = p.Kt_Nm_A;
+    p.J_kg_m2 = (tv_real_t)res->value[ID_P_J];
+    p.M0_Nm = (tv_real_t)res->value[ID_P_M0];
+    p.c_Nm_rad = (tv_real_t)res->value[ID_P_C];
+    p.Mc_Nm = (tv_real_t)res->value[ID_P_MC];
+    p.Ms_Nm = (tv_real_t)fmax(res->value[ID_P_MS], res->value[ID_P_MC]);
+    if (res->identified[ID_P_WS]) {
+        p.ws_rad_s = (tv_real_t)res->value[ID_P_WS];
+    }
+    p.Kv_Nm_s_rad = (tv_real_t)res->value[ID_P_KV];
+    /* j = ID_EXP_GRID: step 3's own law, tried (for its damping) only when no law of the grid
+     * is free of the stiffness bounds (a stop stiffer than the model keeps stable) */
+    for (j = 0; j <= ID_EXP_GRID; ++j) {
+        int l;
+        if (j < ID_EXP_GRID) {
+            const double e = 1.0 + (double)j / (double)(ID_EXP_GRID - 1);
+            const double kscale = pow((double)SL_P_REF_RAD, 1.0 - e);
+            const double kmax = 0.99 * (double)slc.k_max * kscale;
+            const double kmin = 1.01 * (double)slc.k_min * kscale;
+            if (!(laws->sse[j] < HUGE_VAL) || !isfinite(laws->a0[j][0]) || !isfinite(laws->a0[j][1]) ||
+                !(laws->k[j][0] < kmax && laws->k[j][1] < kmax && laws->k[j][0] > kmin && laws->k[j][1] > kmin)) {
+                continue; /* no law, or one at a stiffness bound: not what the rest angles determined */
+            }
+            p.stop_exponent = (tv_real_t)e;
+            p.k_stop_Nm_rad = (tv_real_t)sqrt(laws->k[j][0] * laws->k[j][1]); /* as the static fit's result */
+            p.phi_closed_rad = (tv_real_t)laws->a0[j][0];
+            p.phi_open_rad = (tv_real_t)laws->a0[j][1];
+        } else if (bj < 0) {
+            p.stop_exponent = (tv_real_t)res->value[ID_P_STOP_EXP];
+            p.k_stop_Nm_rad = (tv_real_t)res->value[ID_P_K_STOP];
+            p.phi_closed_rad = (tv_real_t)res->value[ID_P_PHI_CLOSED];
+            p.phi_open_rad = (tv_real_t)res->value[ID_P_PHI_OPEN];
+        } else {
+            break;
+        }
+        for (l = 0; l < ID_DAMP_GRID; ++l) {
+            const double damp = 0.04 * pow(2.0, 0.25 * (double)l);
+            double v;
+            p.d_stop_Nm_s_rad = (tv_real_t)(damp * (double)p.k_stop_Nm_rad);
+            v = impact_sse(d, sg, &p, k0, nimp);
+            if (v < best) {
+                best = v;
+                bj = j;
+                bdamp = damp;
+            }
+        }
+    }
+    free(k0);
+    if (bj < 0) {
+        return TV_OK;
+    }
+    if (bj < ID_EXP_GRID) {
+        const double e = 1.0 + (double)bj / (double)(ID_EXP_GRID - 1);
+        const double kg = sqrt(laws->k[bj][0] * laws->k[bj][1]);
+        if (progress != NULL) {
+            fprintf(progress,
+                    "identify: contact law by %lu impacts: exponent %.2f -> %.2f, k %.4g -> %.4g N m/rad^e, damping %.3g s/rad, "
+                    "onsets moved %+.2f / %+.2f mrad\n",
+                    (unsigned long)nimp, res->value[ID_P_STOP_EXP], e, res->value[ID_P_K_STOP], kg, bdamp,
+                    1e3 * (laws->a0[bj][0] - res->value[ID_P_PHI_CLOSED]), 1e3 * (laws->a0[bj][1] - res->value[ID_P_PHI_OPEN]));
+        }
+        res->value[ID_P_STOP_EXP] = e;
+        res->value[ID_P_K_STOP] = kg;
+        res->value[ID_P_PHI_CLOSED] = laws->a0[bj][0];
+        res->value[ID_P_PHI_OPEN] = laws->a0[bj][1];
+    } else if (progress != NULL) {
+        fprintf(progress, "identify: contact law by %lu impacts: every law the rest angles allow is at the stiffness bound; "
+                          "the static one kept, damping %.3g s/rad\n", (unsigned long)nimp, bdamp);
+    }
+    mark(res, ID_P_STOP_DAMP, bdamp, NAN, 1, "");
+    res->rms_impact_rad = sqrt(best / (double)(nimp * ID_IMP_LEN));
+    return TV_OK;
 }
 
 /* ------------------------------------------------------------------------------------------ */
@@ -1072,6 +1281,7 @@ static int travel_ends(const id_data_t *d, const id_sig_t *s, id_result_t *res)
 int id_run(const id_data_t *d, FILE *progress, id_result_t *res)
 {
     id_sig_t s;
+    id_laws_t laws;
     int p;
     int rc;
     gsl_error_handler_t *old;
@@ -1083,7 +1293,7 @@ int id_run(const id_data_t *d, FILE *progress, id_result_t *res)
         res->value[p] = (double)NAN;
         res->sigma[p] = (double)NAN;
     }
-    res->r2_elec = res->rms_elec_A = res->r2_mech = res->rms_mech_Nm = res->rms_stop_rad = (double)NAN;
+    res->r2_elec = res->rms_elec_A = res->r2_mech = res->rms_mech_Nm = res->rms_stop_rad = res->rms_impact_rad = (double)NAN;
     if (d == NULL || d->u_V == NULL || d->i_A == NULL || d->phi_rad == NULL || d->ok == NULL) {
         return TV_ERR_NULL;
     }
@@ -1121,7 +1331,16 @@ int id_run(const id_data_t *d, FILE *progress, id_result_t *res)
         if (progress != NULL) {
             fprintf(progress, "identify: stops and contact law ...\n");
         }
-        rc = fit_stops(d, res);
+        for (p = 0; p < ID_EXP_GRID; ++p) {
+            laws.sse[p] = HUGE_VAL;
+        }
+        rc = fit_stops(d, res, &laws);
+    }
+    if (rc == TV_OK) {
+        if (progress != NULL) {
+            fprintf(progress, "identify: contact law by the impacts ...\n");
+        }
+        rc = refine_contact(d, &s, &laws, res, progress);
     }
     sig_free(&s);
     (void)gsl_set_error_handler(old);

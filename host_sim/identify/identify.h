@@ -29,6 +29,20 @@
  *      otherwise each block is corrected by the friction its last motion left (loading or
  *      unloading, its level searched with the exponent). The onsets a0 are the stop angles,
  *      their standard deviation from a GSL fit at the chosen exponent.
+ *   4. Contact law by the impacts: rest angles pin the law at the small penetrations where a
+ *      plate dwells, and several exponents fit them about equally well, each with its own k and
+ *      onsets; they differ at an impact's depth, which is what the estimator meets at speed.
+ *      Every impact of the log (the measured angle crosses an onset at > 1 rad/s after free
+ *      travel; ID_IMP_LEN samples from ID_IMP_PRE before the crossing) is replayed by the
+ *      model's plate equation (the prediction map's sub-steps) from the smoothed state, driven
+ *      by the MEASURED current (the armature's model errors stay out), for each exponent whose
+ *      static fit did not end at a stiffness bound (the law, k and onsets of that fit) and each
+ *      damping ratio lambda / k of ID_DAMP_GRID; the pair with the smallest squared angle error
+ *      over all impacts is kept: exponent, k, onsets and the damping ratio (identified). When
+ *      every law of the grid is at a bound (a stop stiffer than the model keeps stable), step
+ *      3's law stays and only its damping ratio is chosen. Needs two impacts at each stop and
+ *      steps 1-3 identified; otherwise step 3's law stays and the damping ratio is the
+ *      stop-learning rule's 0.16 s/rad (not identified).
  *   Each linear fit is done twice: samples with a residual beyond ID_OUTLIER_SIGMA robust
  *   standard deviations (stop impacts, stick-slip inside the window) are dropped for the second.
  *   Standard deviations are s^2 (X^T X)^-1, s^2 the residual variance: white-residual figures,
@@ -77,6 +91,7 @@ typedef enum {
     ID_P_PHI_OPEN,     /**< open stop (contact onset) [rad] */
     ID_P_K_STOP,       /**< contact stiffness [N m/rad^e] */
     ID_P_STOP_EXP,     /**< Hunt-Crossley exponent e [-] */
+    ID_P_STOP_DAMP,    /**< contact damping ratio lambda / k [s/rad] (the model's d_stop = ratio x k) */
     ID_P_COUNT
 } id_param_t;
 
@@ -102,6 +117,8 @@ typedef struct {
     double r2_elec, rms_elec_A;    /**< armature fit: R^2 of i(k+1) and RMS residual [A] */
     double r2_mech, rms_mech_Nm;   /**< plate fit: R^2 of the motor torque and RMS residual [N m] */
     double rms_stop_rad;           /**< contact-law fit: RMS residual of the rest angles [rad] */
+    size_t n_impacts;              /**< impacts the contact law was chosen by (step 4) */
+    double rms_impact_rad;         /**< their RMS angle error with the chosen law [rad] (NaN: none) */
     double travel_lo_rad, travel_hi_rad; /**< smallest and largest smoothed angle of the log [rad] */
     int moved;                     /**< 1: the plate moved (enough free-motion samples for the plate fit) */
 } id_result_t;

@@ -141,9 +141,11 @@ static void print_result(FILE *f, const id_result_t *r)
                 r->identified[p] ? "" : r->why[p]);
     }
     fprintf(f, "fit quality: armature R^2 %.6f, RMS residual %.4g A (%lu samples); plate R^2 %.4f, RMS residual %.4g N m "
-               "(%lu samples of free motion); stops RMS residual %.3g rad (%lu + %lu rest blocks)\n",
+               "(%lu samples of free motion); stops RMS residual %.3g rad (%lu + %lu rest blocks); impacts RMS angle "
+               "error %.3g rad (%lu impacts)\n",
             r->r2_elec, r->rms_elec_A, (unsigned long)r->n_elec, r->r2_mech, r->rms_mech_Nm, (unsigned long)r->n_mech,
-            r->rms_stop_rad, (unsigned long)r->n_blocks[0], (unsigned long)r->n_blocks[1]);
+            r->rms_stop_rad, (unsigned long)r->n_blocks[0], (unsigned long)r->n_blocks[1], r->rms_impact_rad,
+            (unsigned long)r->n_impacts);
 }
 
 static double now_s(void)
