@@ -104,6 +104,17 @@ def recovered(unit, cls, fmt):
               (unit, cls, ratio, true_ratio))
     else:
         check(False, "unit %d (%s): no contact law written" % (unit, cls))
+    # the start-up stop learning keeps that law (exponent fixed, stiffness band +-1 % around it
+    # as a secant at 2.5 mrad, the damping ratio) and re-learns the onsets only
+    e = got.get("model.stop_exponent")
+    check(e is not None and got.get("stop_learn.e_min") == e and got.get("stop_learn.e_max") == e,
+          "unit %d (%s): stop learning's exponent fixed at the identified one" % (unit, cls))
+    if e is not None and "stop_learn.k_min_Nm_rad" in got and "stop_learn.k_max_Nm_rad" in got:
+        ksec = got["model.k_stop_Nm_rad"] * 0.0025 ** (e - 1.0)
+        check(abs(got["stop_learn.k_min_Nm_rad"] / ksec - 0.99) < 1e-6 and abs(got["stop_learn.k_max_Nm_rad"] / ksec - 1.01) < 1e-6,
+              "unit %d (%s): stop learning's stiffness band around the identified law" % (unit, cls))
+    else:
+        check(False, "unit %d (%s): stop learning's stiffness band not written" % (unit, cls))
     check(re.search(r"impacts RMS angle error \S+ rad \((\d+) impacts\)", out) is not None,
           "unit %d: the impacts' fit quality printed" % unit)
     # motor, inertia, friction and springs all identified: the file asks for the diagnostic bounds

@@ -154,6 +154,54 @@ static void test_diag_identified_selects_the_unit_model_bounds(void)
     TV_CHECK_EQ_INT(parse("diag.identified = 0.5\n"), TV_ERR_FORMAT);
 }
 
+/* The start-up stop learning's contact-law keys (what identify writes to keep an identified law):
+ * applied to app_config_t::stop_learn, written back, out-of-range values and the cross-field
+ * rules (e_min <= e_max, k_min < k_max) refused naming both keys. */
+static void test_stop_learn_keys(void)
+{
+    app_config_t c;
+    app_config_default(&c);
+    TV_CHECK(c.stop_learn.e_min == TV_R(1.0) && c.stop_learn.e_max == TV_R(2.0));
+    TV_CHECK_EQ_INT(parse("stop_learn.e_min = 1.3\nstop_learn.e_max = 1.3\nstop_learn.lambda_per_k_s_rad = 0.2\n"
+                          "stop_learn.k_min_Nm_rad = 1500\nstop_learn.k_max_Nm_rad = 1530\n"),
+                    TV_OK);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    TV_CHECK(c.stop_learn.e_min == (tv_real_t)1.3 && c.stop_learn.e_max == (tv_real_t)1.3 &&
+             c.stop_learn.lambda_per_k_s_rad == (tv_real_t)0.2 && c.stop_learn.k_min == (tv_real_t)1500 &&
+             c.stop_learn.k_max == (tv_real_t)1530);
+    {
+        FILE *f = tmpfile();
+        char buf[16384];
+        size_t n;
+        TV_CHECK(f != NULL);
+        if (f == NULL) {
+            return;
+        }
+        TV_CHECK_EQ_INT(params_write(f, &c, NULL), TV_OK);
+        rewind(f);
+        n = fread(buf, 1u, sizeof buf - 1u, f);
+        buf[n] = '\0';
+        (void)fclose(f);
+        TV_CHECK(strstr(buf, "\nstop_learn.e_min = ") != NULL && strstr(buf, "\nstop_learn.k_max_Nm_rad = ") != NULL);
+        /* and reads back to the same */
+        TV_CHECK_EQ_INT(parse(buf), TV_OK);
+        app_config_default(&c);
+        TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+        TV_CHECK(c.stop_learn.e_min == (tv_real_t)1.3 && c.stop_learn.k_min == (tv_real_t)1500 &&
+                 c.stop_learn.k_max == (tv_real_t)1530 && c.stop_learn.lambda_per_k_s_rad == (tv_real_t)0.2);
+    }
+    TV_CHECK_EQ_INT(parse("stop_learn.e_min = 1.5\nstop_learn.e_max = 1.2\n"), TV_OK);
+    app_config_default(&c);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_ERR_RANGE);
+    TV_CHECK(has("p.txt: stop_learn.e_min (p.txt:1) = 1.5 must be <= stop_learn.e_max (p.txt:2) = 1.2"));
+    TV_CHECK_EQ_INT(parse("stop_learn.k_min_Nm_rad = 2e4\n"), TV_OK);
+    app_config_default(&c);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_ERR_RANGE);
+    TV_CHECK(has("p.txt: stop_learn.k_min_Nm_rad (p.txt:1) = 20000 must be < stop_learn.k_max_Nm_rad (default) = 10000"));
+    TV_CHECK_EQ_INT(parse("stop_learn.e_max = 3.5\n"), TV_ERR_RANGE);
+    TV_CHECK(has("p.txt:1: stop_learn.e_max = 3.5 is out of range"));
+}
+
 static void test_unknown_key_is_an_error_naming_file_line_and_key(void)
 {
     TV_CHECK_EQ_INT(parse("model.R_ohm = 4\nmodel.R_Ohm = 4\n"), TV_ERR_FORMAT);
@@ -245,6 +293,7 @@ int main(void)
     TV_TEST_RUN(test_written_defaults_read_back_to_the_same_configuration);
     TV_TEST_RUN(test_values_comments_and_q_recomputation);
     TV_TEST_RUN(test_diag_identified_selects_the_unit_model_bounds);
+    TV_TEST_RUN(test_stop_learn_keys);
     TV_TEST_RUN(test_unknown_key_is_an_error_naming_file_line_and_key);
     TV_TEST_RUN(test_missing_value_is_an_error);
     TV_TEST_RUN(test_duplicate_key_is_an_error);

@@ -207,6 +207,49 @@ static void test_contact_fit(void)
 /* The joint fit finds the common exponent of two stops whose rest angles were written from
  * one law with pow() (e = 1.4, on the default grid 1.0 .. 2.0 in steps of 0.05), their onsets and
  * stiffnesses; a fixed exponent (e_min = e_max) gives one fit; a bad range is refused. */
+/* A law kept from identification (identify's parameter file: stop_learn.e_min = e_max = the
+ * identified exponent, stop_learn.k_min/k_max = the identified stiffness as a secant at
+ * SL_P_REF_RAD, +-1 %): the joint fit then keeps the exponent and the stiffness within the band
+ * and only places the onsets. Rest angles written from a law with e = 1.3, k = 900 N m/rad^1.3 and
+ * onsets moved by wear (-0.0812, 1.3215 rad) give those onsets; rest angles of a 30 % stiffer
+ * stop still give k inside the band. */
+static void test_contact_fit_keeps_an_identified_law(void)
+{
+    const tv_real_t F[SL_LEVELS] = {TV_R(1.35), TV_R(0.75), TV_R(0.45), TV_R(0.30)};
+    const double e = 1.3;
+    const double k_law = 900.0;
+    const double ksec = k_law * pow((double)SL_P_REF_RAD, e - 1.0);
+    const double onset[2] = {-0.0812, 1.3215};
+    tv_real_t a[2][SL_LEVELS];
+    tv_real_t on[2];
+    tv_real_t kk[2];
+    tv_real_t eg = TV_R(0.0);
+    int s;
+    int j;
+    int stiff;
+    for (stiff = 0; stiff < 2; ++stiff) {
+        const double k_true = stiff ? 1.3 * k_law : k_law;
+        for (s = 0; s < 2; ++s) {
+            for (j = 0; j < (int)SL_LEVELS; ++j) {
+                a[s][j] = (tv_real_t)(onset[s] + (s == 0 ? -1.0 : 1.0) * pow((double)F[j] / k_true, 1.0 / e));
+            }
+        }
+        TV_CHECK_EQ_INT(sl_contact_fit_joint(F, (const tv_real_t(*)[SL_LEVELS])a, SL_LEVELS, (tv_real_t)e, (tv_real_t)e,
+                                             (tv_real_t)(0.99 * ksec), (tv_real_t)(1.01 * ksec), on, kk, &eg),
+                        TV_OK);
+        TV_CHECK_NEAR((double)eg, e, 1e-6);
+        for (s = 0; s < 2; ++s) {
+            TV_CHECK((double)kk[s] >= 0.99 * k_law * (1.0 - 1e-5) && (double)kk[s] <= 1.01 * k_law * (1.0 + 1e-5));
+            if (!stiff) {
+                TV_CHECK_NEAR((double)on[s], onset[s], TV_REAL_IS_DOUBLE ? 1e-9 : 2e-5);
+            } else {
+                /* the law is held: the onset absorbs the difference, within the rest angles' span */
+                TV_CHECK(fabs((double)on[s] - onset[s]) < 2e-3);
+            }
+        }
+    }
+}
+
 static void test_contact_fit_joint(void)
 {
     const tv_real_t F[SL_LEVELS] = {TV_R(0.7), TV_R(0.45), TV_R(0.3), TV_R(0.15)};
@@ -396,6 +439,7 @@ int main(void)
     TV_TEST_RUN(test_scripted_stops_are_learned);
     TV_TEST_RUN(test_contact_fit);
     TV_TEST_RUN(test_contact_fit_joint);
+    TV_TEST_RUN(test_contact_fit_keeps_an_identified_law);
     TV_TEST_RUN(test_fit_is_spread_over_periods);
     TV_TEST_RUN(test_timeout_and_implausible_results_learn_nothing);
     TV_TEST_RUN(test_nvm_record);

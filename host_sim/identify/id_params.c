@@ -4,6 +4,7 @@
  */
 #include "id_params.h"
 
+#include <math.h>
 #include <stdio.h>
 
 #include "numfmt.h"
@@ -81,6 +82,21 @@ int id_write_params(FILE *f, const char *log_name, const id_result_t *r, double 
             (void)snprintf(note, sizeof note, "lambda / k = %.3g s/rad: %s", ratio, r->why[ID_P_STOP_DAMP]);
         }
         put_key(f, "model.d_stop_Nm_s_rad", ratio * r->value[ID_P_K_STOP], 1, note);
+        if (r->identified[ID_P_STOP_DAMP]) {
+            /* the start-up stop learning re-fits k and the onsets every start: at the exponent and
+             * with the damping ratio the impacts chose, which its slow approach cannot see */
+            /* the identified stiffness as the secant at SL_P_REF_RAD the routine bounds, +-1 %: its fit
+             * then moves the onsets only */
+            const double ksec = r->value[ID_P_K_STOP] * pow((double)SL_P_REF_RAD, r->value[ID_P_STOP_EXP] - 1.0);
+            fputs("# start-up stop learning (firmware/app/stop_learn.h): the contact law identified here is kept,\n"
+                  "# the routine re-learns the onsets only (they move with wear and temperature)\n",
+                  f);
+            put_key(f, "stop_learn.e_min", r->value[ID_P_STOP_EXP], 1, "the exponent identified");
+            put_key(f, "stop_learn.e_max", r->value[ID_P_STOP_EXP], 1, "the same: fixed");
+            put_key(f, "stop_learn.lambda_per_k_s_rad", ratio, 1, "the damping ratio identified");
+            put_key(f, "stop_learn.k_min_Nm_rad", 0.99 * ksec, 1, "the stiffness identified, as a secant at 2.5 mrad, -1 %");
+            put_key(f, "stop_learn.k_max_Nm_rad", 1.01 * ksec, 1, "the same, +1 %");
+        }
     } else {
         put_key(f, "model.d_stop_Nm_s_rad", 0.0, 0, "the contact law was not identified");
     }

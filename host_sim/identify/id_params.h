@@ -18,8 +18,12 @@ extern "C" {
 /**
  * Write the identified parameters of r as key = value lines, each with its standard deviation
  * as a comment; a parameter not identified (or outside its key's range) is written as a comment
- * only, so the reader keeps its default. Kt = Ke = nKe / gear. The contact damping follows the
- * stop-learning rule (lambda = 0.16 s/rad x k). When the motor, inertia, friction and springs
+ * only, so the reader keeps its default. Kt = Ke = nKe / gear. The contact damping is the
+ * identified ratio x k (identify.h step 4), else the stop-learning rule's 0.16 s/rad x k. When the
+ * impacts identified the law, the start-up stop learning is told to keep it: stop_learn.e_min =
+ * e_max = the exponent, stop_learn.k_min/k_max_Nm_rad = the stiffness as a secant at
+ * SL_P_REF_RAD -1 % / +1 %, stop_learn.lambda_per_k_s_rad = the ratio (it then re-learns the
+ * onsets only, which move with wear and temperature). When the motor, inertia, friction and springs
  * (R, nKe, J, M0, c, Mc, Ms, Kv) are all identified it also writes diag.identified = 1: the
  * diagnostic bounds then judge friction and preload relative to this model
  * (diag_detect_config_identified()). log_name names the source in the header comment.

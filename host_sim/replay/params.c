@@ -18,7 +18,7 @@
 enum {
     K_R = 0, K_L, K_KE, K_KT, K_J, K_N, K_MC, K_M0, K_C, K_KV, K_MS, K_WS, K_PHI_CLOSED, K_PHI_OPEN, K_K_STOP,
     K_D_STOP, K_STOP_EXP, K_E_PHI, K_E_W, K_SUBSTEPS,
-    K_QU, K_QT, K_R_CURRENT, K_R_VELOCITY, K_R_ANGLE, K_CONTACT_BAND, K_QC, K_STOP_LEARN, K_QD_CONTACT, K_QD_FREE, K_D_TAU, K_CONTACT_GATE, K_QT_REL, K_IL_ENABLE, K_IL_GAIN,
+    K_QU, K_QT, K_R_CURRENT, K_R_VELOCITY, K_R_ANGLE, K_CONTACT_BAND, K_QC, K_STOP_LEARN, K_QD_CONTACT, K_QD_FREE, K_D_TAU, K_CONTACT_GATE, K_QT_REL, K_IL_ENABLE, K_IL_GAIN, K_SL_E_MIN, K_SL_E_MAX, K_SL_LAMBDA, K_SL_K_MIN, K_SL_K_MAX,
     K_QR, K_R_SIGMA0, K_DR_MAX, K_DR_EXCITE, K_QF, K_F_SIGMA0, K_F_MAX, K_F_EXCITE, K_QM, K_M_SIGMA0, K_M_MAX, K_DIAG_IDENTIFIED,
     K_CAL_CUR_OFF, K_CAL_CUR_GAIN, K_CAL_TPS1_ZERO, K_CAL_TPS1_GAIN, K_CAL_TPS2_ZERO, K_CAL_TPS2_GAIN, K_CAL_SUPPLY,
     K_LIM_CUR_MIN, K_LIM_CUR_MAX, K_LIM_TPS_MIN, K_LIM_TPS_MAX, K_LIM_DISAGREE, K_LIM_SUP_MIN, K_LIM_SUP_MAX,
@@ -380,6 +380,11 @@ static tv_real_t *real_field(app_config_t *c, int k)
     case K_CONTACT_GATE: return &c->ekf.contact_nis_gate;
     case K_QT_REL: return &c->ekf.qT_rel_s;
     case K_IL_GAIN: return &c->impact_learn.gain;
+    case K_SL_E_MIN: return &c->stop_learn.e_min;
+    case K_SL_E_MAX: return &c->stop_learn.e_max;
+    case K_SL_LAMBDA: return &c->stop_learn.lambda_per_k_s_rad;
+    case K_SL_K_MIN: return &c->stop_learn.k_min;
+    case K_SL_K_MAX: return &c->stop_learn.k_max;
     case K_QR: return &c->ekf.qr_ohm2_s;
     case K_R_SIGMA0: return &c->ekf.r_sigma0_ohm;
     case K_DR_MAX: return &c->ekf.dr_abs_max_ohm;
@@ -477,6 +482,12 @@ int params_apply(const params_t *p, app_config_t *cfg, char *err, size_t cap)
     if (rc == TV_OK) {
         rc = rule(p, K_LIM_SUP_MIN, (double)c.limits.supply_min_V, K_LIM_SUP_MAX, (double)c.limits.supply_max_V, 1,
                   err, cap);
+    }
+    if (rc == TV_OK) {
+        rc = rule(p, K_SL_E_MIN, (double)c.stop_learn.e_min, K_SL_E_MAX, (double)c.stop_learn.e_max, 0, err, cap);
+    }
+    if (rc == TV_OK) {
+        rc = rule(p, K_SL_K_MIN, (double)c.stop_learn.k_min, K_SL_K_MAX, (double)c.stop_learn.k_max, 1, err, cap);
     }
     if (rc != TV_OK) {
         return rc;
