@@ -56,25 +56,32 @@ static int temp_file(const char *text, size_t n, char *out, size_t cap)
     return fclose(f);
 }
 
+/* params_write() of c into buf (NUL-terminated); 0 on success, -1 when the temporary file failed. */
+static int write_config(const app_config_t *c, char *buf, size_t cap)
+{
+    FILE *f = tmpfile();
+    size_t n;
+    int rc;
+    if (f == NULL) {
+        return -1;
+    }
+    rc = params_write(f, c, NULL);
+    rewind(f);
+    n = fread(buf, 1u, cap - 1u, f);
+    buf[n] = '\0';
+    (void)fclose(f);
+    return rc == TV_OK ? 0 : -1;
+}
+
 static void test_written_defaults_read_back_to_the_same_configuration(void)
 {
     app_config_t def;
     app_config_t got;
     char path[64];
     static char text[16384];
-    FILE *f = tmpfile();
-    size_t n;
-    TV_CHECK(f != NULL);
-    if (f == NULL) {
-        return;
-    }
     app_config_default(&def);
-    TV_CHECK_EQ_INT(params_write(f, &def, NULL), TV_OK);
-    rewind(f);
-    n = fread(text, 1u, sizeof text - 1u, f);
-    (void)fclose(f);
-    text[n] = '\0';
-    TV_CHECK(temp_file(text, n, path, sizeof path) == 0);
+    TV_CHECK(write_config(&def, text, sizeof text) == 0);
+    TV_CHECK(temp_file(text, strlen(text), path, sizeof path) == 0);
     params_init(&s_p, path);
     TV_CHECK_EQ_INT(params_load(&s_p, path, s_err, sizeof s_err), TV_OK);
     (void)remove(path);
@@ -120,9 +127,7 @@ static void test_values_comments_and_q_recomputation(void)
 static void test_diag_identified_selects_the_unit_model_bounds(void)
 {
     app_config_t c;
-    FILE *f;
     char buf[16384];
-    size_t n;
     app_config_default(&c);
     TV_CHECK(c.diag.identified == 0u && c.diag.friction_high_rel == (tv_real_t)1.7 &&
              c.diag.friction_fast_high == (tv_real_t)1.7);
@@ -133,16 +138,7 @@ static void test_diag_identified_selects_the_unit_model_bounds(void)
              c.diag.friction_fast_level_min == (tv_real_t)1.1 && c.diag.preload_fast_low == (tv_real_t)0.7 &&
              c.diag.preload_fast_friction_max == (tv_real_t)1.3);
     /* the written configuration names it, and reads back to the same bounds */
-    f = tmpfile();
-    TV_CHECK(f != NULL);
-    if (f == NULL) {
-        return;
-    }
-    TV_CHECK_EQ_INT(params_write(f, &c, NULL), TV_OK);
-    rewind(f);
-    n = fread(buf, 1u, sizeof buf - 1u, f);
-    buf[n] = '\0';
-    (void)fclose(f);
+    TV_CHECK(write_config(&c, buf, sizeof buf) == 0);
     TV_CHECK(strstr(buf, "\ndiag.identified = 1 ") != NULL);
     /* 0 restores the class's bounds */
     TV_CHECK_EQ_INT(parse("diag.identified = 0\n"), TV_OK);
@@ -170,18 +166,8 @@ static void test_stop_learn_keys(void)
              c.stop_learn.lambda_per_k_s_rad == (tv_real_t)0.2 && c.stop_learn.k_min == (tv_real_t)1500 &&
              c.stop_learn.k_max == (tv_real_t)1530);
     {
-        FILE *f = tmpfile();
-        char buf[16384];
-        size_t n;
-        TV_CHECK(f != NULL);
-        if (f == NULL) {
-            return;
-        }
-        TV_CHECK_EQ_INT(params_write(f, &c, NULL), TV_OK);
-        rewind(f);
-        n = fread(buf, 1u, sizeof buf - 1u, f);
-        buf[n] = '\0';
-        (void)fclose(f);
+        static char buf[16384];
+        TV_CHECK(write_config(&c, buf, sizeof buf) == 0);
         TV_CHECK(strstr(buf, "\nstop_learn.e_min = ") != NULL && strstr(buf, "\nstop_learn.k_max_Nm_rad = ") != NULL);
         /* and reads back to the same */
         TV_CHECK_EQ_INT(parse(buf), TV_OK);
