@@ -207,6 +207,20 @@ static void test_contact_fit(void)
 /* The joint fit finds the common exponent of two stops whose rest angles were written from
  * one law with pow() (e = 1.4, on the default grid 1.0 .. 2.0 in steps of 0.05), their onsets and
  * stiffnesses; a fixed exponent (e_min = e_max) gives one fit; a bad range is refused. */
+/* Rest angles of both stops from the law a = onset + dir (F / k)^(1/e), written out here (not by
+ * the code under test): dir = -1 at the closed stop (s = 0), +1 at the open one. */
+static void law_rest_angles(const tv_real_t F[SL_LEVELS], double e, const double onset[2], const double k[2],
+                            tv_real_t a[2][SL_LEVELS])
+{
+    unsigned s;
+    unsigned j;
+    for (s = 0; s < 2u; ++s) {
+        for (j = 0; j < SL_LEVELS; ++j) {
+            a[s][j] = (tv_real_t)(onset[s] + (s == 0u ? -1.0 : 1.0) * pow((double)F[j] / k[s], 1.0 / e));
+        }
+    }
+}
+
 /* A law kept from identification (identify's parameter file: stop_learn.e_min = e_max = the
  * identified exponent, stop_learn.k_min/k_max = the identified stiffness as a secant at
  * SL_P_REF_RAD, +-1 %): the joint fit then keeps the exponent and the stiffness within the band
@@ -225,15 +239,10 @@ static void test_contact_fit_keeps_an_identified_law(void)
     tv_real_t kk[2];
     tv_real_t eg = TV_R(0.0);
     int s;
-    int j;
     int stiff;
     for (stiff = 0; stiff < 2; ++stiff) {
-        const double k_true = stiff ? 1.3 * k_law : k_law;
-        for (s = 0; s < 2; ++s) {
-            for (j = 0; j < (int)SL_LEVELS; ++j) {
-                a[s][j] = (tv_real_t)(onset[s] + (s == 0 ? -1.0 : 1.0) * pow((double)F[j] / k_true, 1.0 / e));
-            }
-        }
+        const double k_true[2] = {stiff ? 1.3 * k_law : k_law, stiff ? 1.3 * k_law : k_law};
+        law_rest_angles(F, e, onset, k_true, a);
         TV_CHECK_EQ_INT(sl_contact_fit_joint(F, (const tv_real_t(*)[SL_LEVELS])a, SL_LEVELS, (tv_real_t)e, (tv_real_t)e,
                                              (tv_real_t)(0.99 * ksec), (tv_real_t)(1.01 * ksec), on, kk, &eg),
                         TV_OK);
@@ -260,12 +269,7 @@ static void test_contact_fit_joint(void)
     tv_real_t k[2];
     tv_real_t e = TV_R(0.0);
     unsigned s;
-    unsigned j;
-    for (s = 0; s < 2u; ++s) {
-        for (j = 0; j < SL_LEVELS; ++j) {
-            a[s][j] = (tv_real_t)(a0_true[s] + (s == 0u ? -1.0 : 1.0) * pow((double)F[j] / k_true[s], 1.0 / 1.4));
-        }
-    }
+    law_rest_angles(F, 1.4, a0_true, k_true, a);
     TV_CHECK_EQ_INT(sl_contact_fit_joint(F, (const tv_real_t(*)[SL_LEVELS])a, SL_LEVELS, TV_R(1.0), TV_R(2.0), TV_R(50.0),
                                          TV_R(1e6), onset, k, &e),
                     TV_OK);
