@@ -357,6 +357,46 @@ static void test_identified_model_keys_applied(void)
     app_config_default(&app);
     lx_config_apply_app(&cfg, &app);
     TV_CHECK(memcmp(&app.model, &def.model, sizeof app.model) == 0);
+    TV_CHECK(memcmp(&app.stop_learn, &def.stop_learn, sizeof app.stop_learn) == 0);
+    TV_CHECK(app.diag.identified == 0u);
+}
+
+/* The rest of an identify file: the start-up stop learning keeps the identified contact law
+ * (stop_learn.* keys: exponent fixed, stiffness band, damping ratio) and diag.identified = 1 puts
+ * the identified unit's diagnostic bounds in force (values written out here, as
+ * diag_detect.h documents them); ranges crossed over are named. */
+static void test_identified_stop_learning_and_bounds_applied(void)
+{
+    static lx_config_t cfg;
+    app_config_t app;
+    app_t a;
+    char err[LX_ERR_LEN];
+    const char *extra = "stop_learn.e_min = 1.3    # the exponent identified\n"
+                        "stop_learn.e_max = 1.3\n"
+                        "stop_learn.lambda_per_k_s_rad = 0.226\n"
+                        "stop_learn.k_min_Nm_rad = 1510\n"
+                        "stop_learn.k_max_Nm_rad = 1540\n"
+                        "diag.identified = 1\n";
+    TV_CHECK_EQ_INT(parse_with(extra, &cfg, err, sizeof err), TV_OK);
+    app_config_default(&app);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK_NEAR(app.stop_learn.e_min, 1.3, 1e-6);
+    TV_CHECK_NEAR(app.stop_learn.e_max, 1.3, 1e-6);
+    TV_CHECK_NEAR(app.stop_learn.lambda_per_k_s_rad, 0.226, 1e-6);
+    TV_CHECK_NEAR(app.stop_learn.k_min, 1510.0, 1e-3);
+    TV_CHECK_NEAR(app.stop_learn.k_max, 1540.0, 1e-3);
+    TV_CHECK(app.diag.identified == 1u && app.diag.friction_high_rel == (tv_real_t)1.15);
+    TV_CHECK_EQ_INT(app_init(&a, &app), TV_OK);
+    /* crossed ranges given in the file are named; one against a default fails app_init() */
+    TV_CHECK_EQ_INT(parse_with("stop_learn.e_min = 1.6\nstop_learn.e_max = 1.2\n", &cfg, err, sizeof err), TV_ERR_CONFIG);
+    TV_CHECK(strstr(err, "stop_learn.e_min (1.6) is above stop_learn.e_max (1.2)") != NULL);
+    TV_CHECK_EQ_INT(parse_with("stop_learn.k_min_Nm_rad = 2e4\nstop_learn.k_max_Nm_rad = 1e4\n", &cfg, err, sizeof err),
+                    TV_ERR_CONFIG);
+    TV_CHECK(strstr(err, "stop_learn.k_min_Nm_rad (20000) is not below stop_learn.k_max_Nm_rad (10000)") != NULL);
+    TV_CHECK_EQ_INT(parse_with("stop_learn.k_min_Nm_rad = 2e4\n", &cfg, err, sizeof err), TV_OK);
+    app_config_default(&app);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK(app_init(&a, &app) != TV_OK);
 }
 
 /*
@@ -440,6 +480,7 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_file_errors_named);
     TV_TEST_RUN(test_shared_keys_have_one_range);
     TV_TEST_RUN(test_identified_model_keys_applied);
+    TV_TEST_RUN(test_identified_stop_learning_and_bounds_applied);
     TV_TEST_RUN(test_stops_file_round_trip_and_errors);
     return tv_test_summary();
 }

@@ -109,6 +109,13 @@ static const key_desc_t s_keys[] = {
     NUM("model.k_stop_Nm_rad", K_DOUBLE, 0, 1e7, model_k_stop_Nm_rad, 0),
     NUM("model.d_stop_Nm_s_rad", K_DOUBLE, 0, 1e7, model_d_stop_Nm_s_rad, 0),
     NUM("model.stop_exponent", K_DOUBLE, 0, 3, model_stop_exponent, 0),
+    /* the rest of what identify writes (ranges from tv_param_table.c) */
+    NUM("stop_learn.e_min", K_DOUBLE, 1, 3, sl_e_min, 0),
+    NUM("stop_learn.e_max", K_DOUBLE, 1, 3, sl_e_max, 0),
+    NUM("stop_learn.lambda_per_k_s_rad", K_DOUBLE, 0, 10, sl_lambda_per_k_s_rad, 0),
+    NUM("stop_learn.k_min_Nm_rad", K_DOUBLE, 1e-9, 1e7, sl_k_min_Nm_rad, 0),
+    NUM("stop_learn.k_max_Nm_rad", K_DOUBLE, 1e-9, 1e7, sl_k_max_Nm_rad, 0),
+    NUM("diag.identified", K_BOOL, 0, 1, diag_identified, 0),
 };
 
 /* The model keys: where each goes in lx_config_t and in tvm_params_t. */
@@ -135,6 +142,19 @@ static const struct {
     {OFF(model_stop_exponent), offsetof(tvm_params_t, stop_exponent)},
 };
 #define N_MODEL_KEYS (sizeof s_model_keys / sizeof s_model_keys[0])
+
+/* The stop-learning keys: where each goes in lx_config_t and in sl_config_t (NaN = not given). */
+static const struct {
+    size_t lx;
+    size_t sl;
+} s_sl_keys[] = {
+    {OFF(sl_e_min), offsetof(sl_config_t, e_min)},
+    {OFF(sl_e_max), offsetof(sl_config_t, e_max)},
+    {OFF(sl_lambda_per_k_s_rad), offsetof(sl_config_t, lambda_per_k_s_rad)},
+    {OFF(sl_k_min_Nm_rad), offsetof(sl_config_t, k_min)},
+    {OFF(sl_k_max_Nm_rad), offsetof(sl_config_t, k_max)},
+};
+#define N_SL_KEYS (sizeof s_sl_keys / sizeof s_sl_keys[0])
 
 #define N_KEYS (sizeof s_keys / sizeof s_keys[0])
 /* Longest line accepted [bytes]. */
@@ -188,9 +208,12 @@ void lx_config_default(lx_config_t *cfg)
     cfg->calib_supply_V_per_count = (double)c.supply_V_per_count;
     {
         size_t k;
+        const double nan_v = (double)NAN;
         for (k = 0; k < N_MODEL_KEYS; ++k) { /* not given: the application's default */
-            const double nan_v = (double)NAN;
             memcpy((char *)cfg + s_model_keys[k].lx, &nan_v, sizeof nan_v);
+        }
+        for (k = 0; k < N_SL_KEYS; ++k) {
+            memcpy((char *)cfg + s_sl_keys[k].lx, &nan_v, sizeof nan_v);
         }
     }
 }
@@ -337,6 +360,18 @@ static int check_conflicts(const lx_config_t *cfg, const char *name, char *err, 
     if (cfg->dev.gpio_enable_line == cfg->dev.gpio_fault_line) {
         lx_err_set(err, err_len, "%s: gpio.bridge_enable.line and gpio.driver_fault.line are both %u", name,
                 (unsigned)cfg->dev.gpio_enable_line);
+        return TV_ERR_CONFIG;
+    }
+    /* the stop learning's ranges where both sides are given (one side against a default is
+     * judged, with its status, by app_init(): sl_config_valid()) */
+    if (!isnan(cfg->sl_e_min) && !isnan(cfg->sl_e_max) && cfg->sl_e_min > cfg->sl_e_max) {
+        lx_err_set(err, err_len, "%s: stop_learn.e_min (%g) is above stop_learn.e_max (%g)", name, cfg->sl_e_min,
+                   cfg->sl_e_max);
+        return TV_ERR_CONFIG;
+    }
+    if (!isnan(cfg->sl_k_min_Nm_rad) && !isnan(cfg->sl_k_max_Nm_rad) && !(cfg->sl_k_min_Nm_rad < cfg->sl_k_max_Nm_rad)) {
+        lx_err_set(err, err_len, "%s: stop_learn.k_min_Nm_rad (%g) is not below stop_learn.k_max_Nm_rad (%g)", name,
+                   cfg->sl_k_min_Nm_rad, cfg->sl_k_max_Nm_rad);
         return TV_ERR_CONFIG;
     }
     return TV_OK;
@@ -620,6 +655,17 @@ void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
         if (any) {
             /* an invalid model fails here and again, with its status, in app_init() */
             (void)ekf_q_from_spectral(&app->model, EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S, app->ekf.Q);
+        }
+        for (k = 0; k < N_SL_KEYS; ++k) {
+            double v;
+            memcpy(&v, (const char *)cfg + s_sl_keys[k].lx, sizeof v);
+            if (!isnan(v)) {
+                const tv_real_t r = (tv_real_t)v;
+                memcpy((char *)&app->stop_learn + s_sl_keys[k].sl, &r, sizeof r);
+            }
+        }
+        if (cfg->diag_identified != 0) {
+            diag_detect_config_identified(&app->diag);
         }
     }
 }

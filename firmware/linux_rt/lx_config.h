@@ -79,6 +79,15 @@ typedef struct {
     double model_k_stop_Nm_rad;   /**< model.k_stop_Nm_rad */
     double model_d_stop_Nm_s_rad; /**< model.d_stop_Nm_s_rad */
     double model_stop_exponent;   /**< model.stop_exponent */
+    /* what else a parameter file of identify says (host_sim/identify/id_params.h): the start-up
+     * stop learning's contact law (stop_learn.h; NaN = not given, the default stays) and the
+     * diagnostic bounds relative to the unit's own model (diag_detect_config_identified()) */
+    double sl_e_min;              /**< stop_learn.e_min */
+    double sl_e_max;              /**< stop_learn.e_max */
+    double sl_lambda_per_k_s_rad; /**< stop_learn.lambda_per_k_s_rad */
+    double sl_k_min_Nm_rad;       /**< stop_learn.k_min_Nm_rad */
+    double sl_k_max_Nm_rad;       /**< stop_learn.k_max_Nm_rad */
+    int32_t diag_identified;      /**< diag.identified: 1 = the identified unit's bounds; default 0 */
 } lx_config_t;
 
 /** Fill *cfg with every default (required keys empty / zero). */
