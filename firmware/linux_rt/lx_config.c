@@ -118,11 +118,15 @@ static const key_desc_t s_keys[] = {
     NUM("diag.identified", K_BOOL, 0, 1, diag_identified, 0),
 };
 
-/* The model keys: where each goes in lx_config_t and in tvm_params_t. */
-static const struct {
+/* Where an optional real key goes: its double in lx_config_t (NaN = not given) and its tv_real_t
+ * in the application's structure. */
+typedef struct {
     size_t lx;
-    size_t model;
-} s_model_keys[] = {
+    size_t dst;
+} real_key_t;
+
+/* The model keys: where each goes in lx_config_t and in tvm_params_t. */
+static const real_key_t s_model_keys[] = {
     {OFF(model_R_ohm), offsetof(tvm_params_t, R_ohm)},
     {OFF(model_L_H), offsetof(tvm_params_t, L_H)},
     {OFF(model_Ke_V_s_rad), offsetof(tvm_params_t, Ke_V_s_rad)},
@@ -143,11 +147,8 @@ static const struct {
 };
 #define N_MODEL_KEYS (sizeof s_model_keys / sizeof s_model_keys[0])
 
-/* The stop-learning keys: where each goes in lx_config_t and in sl_config_t (NaN = not given). */
-static const struct {
-    size_t lx;
-    size_t sl;
-} s_sl_keys[] = {
+/* The stop-learning keys: where each goes in lx_config_t and in sl_config_t. */
+static const real_key_t s_sl_keys[] = {
     {OFF(sl_e_min), offsetof(sl_config_t, e_min)},
     {OFF(sl_e_max), offsetof(sl_config_t, e_max)},
     {OFF(sl_lambda_per_k_s_rad), offsetof(sl_config_t, lambda_per_k_s_rad)},
@@ -155,6 +156,33 @@ static const struct {
     {OFF(sl_k_max_Nm_rad), offsetof(sl_config_t, k_max)},
 };
 #define N_SL_KEYS (sizeof s_sl_keys / sizeof s_sl_keys[0])
+
+/* Every key of map[0..n) not given (NaN in cfg). */
+static void real_keys_unset(lx_config_t *cfg, const real_key_t *map, size_t n)
+{
+    const double nan_v = (double)NAN;
+    size_t k;
+    for (k = 0; k < n; ++k) {
+        memcpy((char *)cfg + map[k].lx, &nan_v, sizeof nan_v);
+    }
+}
+
+/* The keys of map[0..n) given in cfg, into dst; returns 1 when any was given. */
+static int real_keys_copy(const lx_config_t *cfg, const real_key_t *map, size_t n, void *dst)
+{
+    int any = 0;
+    size_t k;
+    for (k = 0; k < n; ++k) {
+        double v;
+        memcpy(&v, (const char *)cfg + map[k].lx, sizeof v);
+        if (!isnan(v)) {
+            const tv_real_t r = (tv_real_t)v;
+            memcpy((char *)dst + map[k].dst, &r, sizeof r);
+            any = 1;
+        }
+    }
+    return any;
+}
 
 #define N_KEYS (sizeof s_keys / sizeof s_keys[0])
 /* Longest line accepted [bytes]. */
@@ -206,16 +234,9 @@ void lx_config_default(lx_config_t *cfg)
     cfg->calib_tps2_counts_at_zero = (double)c.tps2_counts_at_zero;
     cfg->calib_tps2_rad_per_count = (double)c.tps2_rad_per_count;
     cfg->calib_supply_V_per_count = (double)c.supply_V_per_count;
-    {
-        size_t k;
-        const double nan_v = (double)NAN;
-        for (k = 0; k < N_MODEL_KEYS; ++k) { /* not given: the application's default */
-            memcpy((char *)cfg + s_model_keys[k].lx, &nan_v, sizeof nan_v);
-        }
-        for (k = 0; k < N_SL_KEYS; ++k) {
-            memcpy((char *)cfg + s_sl_keys[k].lx, &nan_v, sizeof nan_v);
-        }
-    }
+    /* not given: the application's defaults */
+    real_keys_unset(cfg, s_model_keys, N_MODEL_KEYS);
+    real_keys_unset(cfg, s_sl_keys, N_SL_KEYS);
 }
 
 static char *trim(char *s)
@@ -636,17 +657,7 @@ void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
     app->calib.adc_max_counts = (uint16_t)cfg->dev.adc_max_counts;
     {
         /* the model keys given; Q follows the model, as in a parameter file (params.h) */
-        size_t k;
-        int any = 0;
-        for (k = 0; k < N_MODEL_KEYS; ++k) {
-            double v;
-            memcpy(&v, (const char *)cfg + s_model_keys[k].lx, sizeof v);
-            if (!isnan(v)) {
-                const tv_real_t r = (tv_real_t)v;
-                memcpy((char *)&app->model + s_model_keys[k].model, &r, sizeof r);
-                any = 1;
-            }
-        }
+        const int any = real_keys_copy(cfg, s_model_keys, N_MODEL_KEYS, &app->model);
         if (!isnan(cfg->model_phi_closed_rad) || !isnan(cfg->model_phi_open_rad)) {
             /* stops given (configuration or app.stops_file): known, so the envelope of
              * never-learned stops is off (stop_track.h) */
@@ -656,14 +667,7 @@ void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
             /* an invalid model fails here and again, with its status, in app_init() */
             (void)ekf_q_from_spectral(&app->model, EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S, app->ekf.Q);
         }
-        for (k = 0; k < N_SL_KEYS; ++k) {
-            double v;
-            memcpy(&v, (const char *)cfg + s_sl_keys[k].lx, sizeof v);
-            if (!isnan(v)) {
-                const tv_real_t r = (tv_real_t)v;
-                memcpy((char *)&app->stop_learn + s_sl_keys[k].sl, &r, sizeof r);
-            }
-        }
+        (void)real_keys_copy(cfg, s_sl_keys, N_SL_KEYS, &app->stop_learn);
         if (cfg->diag_identified != 0) {
             diag_detect_config_identified(&app->diag);
         }
