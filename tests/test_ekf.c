@@ -1173,6 +1173,169 @@ static void test_locally_observable_in_both_setups(void)
 }
 #endif
 
+#if TV_REAL_IS_DOUBLE
+/* n steps of the nominal model as truth under the paper's 12 V / 5 Hz sine, the filter corrected
+ * with the current and angle plus Gaussian noise of the sensors' sigma times noise_x; returns
+ * the average per-channel NIS over the last half and the predictions made with an inflated Q. */
+static double run_noisy(ekf_t *f, long n, double noise_x, double *max_scale)
+{
+    tvm_t truth;
+    tvm_params_t p;
+    double xt[3] = {0.0, 0.0, 0.0};
+    double nis = 0.0;
+    long k;
+    tvm_params_default(&p);
+    TV_CHECK_EQ_INT(tvm_init(&truth, &p), TV_OK);
+    *max_scale = 1.0;
+    for (k = 0; k < n; ++k) {
+        ekf_meas_t m;
+        ekf_innov_t in;
+        const tv_real_t u = paper_u(k);
+        tvm_step(&truth, xt, u, xt, NULL);
+        TV_CHECK_EQ_INT(ekf_predict(f, u), TV_OK);
+        m.z[EKF_CH_CURRENT] = (tv_real_t)(xt[0] + noise_x * 0.01027 * gauss());
+        m.z[EKF_CH_VELOCITY] = 0.0;
+        m.z[EKF_CH_ANGLE] = (tv_real_t)(xt[2] + noise_x * 1.633e-4 * gauss());
+        TV_CHECK_EQ_INT(ekf_correct(f, &m, &in), TV_OK);
+        if (k >= n / 2) {
+            nis += (double)in.nis_total / (double)in.n_used;
+            if ((double)f->q_scale > *max_scale) {
+                *max_scale = (double)f->q_scale;
+            }
+        }
+    }
+    return nis / (double)(n - n / 2);
+}
+
+/*
+ * Consistency-driven inflation (ekf_config_t::nis_inflate_*): (1) the formula: after a
+ * correction of known NIS the average and the factor are those of the documentation, and the
+ * next prediction's covariance equals that of a filter with the inflation off and Q times that
+ * factor; an outlier moves the average by alpha times the clip at most; (2) on its own model
+ * with the sensors' true noise the filter is left (nearly) alone; with 3x the noise its NIS is
+ * inflated by the data and the inflation widens its sigma and lowers its NIS; with the
+ * inflation off, nothing of it runs.
+ */
+static void test_consistency_driven_inflation(void)
+{
+    tvm_params_t p;
+    ekf_config_t cfg;
+    ekf_t f;
+    ekf_t fref;
+    ekf_meas_t m;
+    ekf_innov_t in;
+    ekf_health_t h;
+    double avg;
+    double v;
+    double r;
+    double want;
+    double nis_on;
+    double nis_off;
+    double max_on;
+    double max_off;
+    double pw_on;
+    int a;
+    int b;
+    tvm_params_default(&p);
+    ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
+    TV_CHECK_NEAR(cfg.nis_inflate_alpha, 0.02, 1e-12);
+    TV_CHECK_NEAR(cfg.nis_inflate_threshold, 1.2, 1e-12);
+    TV_CHECK_NEAR(cfg.nis_inflate_max, 100.0, 1e-12);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    TV_CHECK_NEAR(f.nis_avg, 1.0, 0.0);
+    TV_CHECK_NEAR(f.q_scale, 1.0, 0.0);
+    /* (1) at rest, 200 exact measurements (NIS below the threshold: nothing inflated), then a
+     * correction whose angle is 0.5 rad off: a huge NIS, clipped at 100 */
+    for (a = 0; a < 200; ++a) {
+        TV_CHECK_EQ_INT(ekf_predict(&f, 0.0), TV_OK);
+        m.z[EKF_CH_CURRENT] = f.x[0];
+        m.z[EKF_CH_VELOCITY] = 0.0;
+        m.z[EKF_CH_ANGLE] = f.x[2];
+        TV_CHECK_EQ_INT(ekf_correct(&f, &m, &in), TV_OK);
+    }
+    TV_CHECK_NEAR(f.q_scale, 1.0, 0.0);
+    avg = (double)f.nis_avg;
+    TV_CHECK(avg < 1.0);
+    TV_CHECK_EQ_INT(ekf_predict(&f, 0.0), TV_OK);
+    m.z[EKF_CH_CURRENT] = f.x[0];
+    m.z[EKF_CH_VELOCITY] = 0.0;
+    m.z[EKF_CH_ANGLE] = (tv_real_t)((double)f.x[2] + 0.5);
+    TV_CHECK_EQ_INT(ekf_correct(&f, &m, &in), TV_OK);
+    v = (double)in.nis_total / (double)in.n_used;
+    TV_CHECK(v > 100.0); /* the clip matters here */
+    avg += 0.02 * (100.0 - avg);
+    TV_CHECK_NEAR(f.nis_avg, avg, 1e-12);
+    r = avg / 1.2;
+    want = r > 1.0 ? fmin(r * r, 100.0) : 1.0;
+    TV_CHECK_NEAR(f.q_scale, want, 1e-12);
+    printf("  one outlier (NIS per channel %.3g): average -> %.4g, factor on Q %.4g\n", v, (double)f.nis_avg, (double)f.q_scale);
+    /* a second one of NIS 4 (an angle 2 sigma off): average and factor by hand */
+    TV_CHECK_EQ_INT(ekf_predict(&f, 0.0), TV_OK);
+    m.z[EKF_CH_CURRENT] = f.x[0];
+    m.z[EKF_CH_ANGLE] = (tv_real_t)((double)f.x[2] + 2.0 * sqrt((double)f.P[2][2] + (double)cfg.r[EKF_CH_ANGLE]));
+    TV_CHECK_EQ_INT(ekf_correct(&f, &m, &in), TV_OK);
+    v = (double)in.nis_total / (double)in.n_used;
+    /* (0 + about 4) / 2 channels: the current's update before it moved the angle's variance a
+     * little; the NIS itself is checked against the Eigen reference (test_eigen_crosscheck) */
+    TV_CHECK_NEAR(v, 2.0, 0.02);
+    avg += 0.02 * (v - avg);
+    TV_CHECK_NEAR(f.nis_avg, avg, 1e-12);
+    r = avg / 1.2;
+    want = r > 1.0 ? fmin(r * r, 100.0) : 1.0;
+    TV_CHECK_NEAR(f.q_scale, want, 1e-12);
+    /* the next prediction is that of the inflation off with Q times the factor */
+    fref = f;
+    fref.cfg.nis_inflate_alpha = TV_R(0.0);
+    fref.q_scale = TV_R(1.0);
+    for (a = 0; a < 3; ++a) {
+        for (b = 0; b < 3; ++b) {
+            fref.cfg.Q[a][b] = (tv_real_t)(want * (double)cfg.Q[a][b]);
+        }
+    }
+    TV_CHECK_EQ_INT(ekf_predict(&f, (tv_real_t)6.0), TV_OK);
+    TV_CHECK_EQ_INT(ekf_predict(&fref, (tv_real_t)6.0), TV_OK);
+    for (a = 0; a < 3; ++a) {
+        TV_CHECK(f.x[a] == fref.x[a]);
+        for (b = 0; b < 3; ++b) {
+            TV_CHECK_NEAR(f.P[a][b], fref.P[a][b], fabs((double)fref.P[a][b]) * 1e-12 + 1e-300);
+        }
+    }
+    ekf_health(&f, &h);
+    TV_CHECK_EQ_INT(h.n_q_inflated, 2); /* the prediction after the outlier and this one */
+    /* (2) consistent data: left nearly alone; 3x the sensors' noise: inflated, sigma wider */
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    nis_on = run_noisy(&f, 6000, 1.0, &max_on);
+    ekf_health(&f, &h);
+    printf("  own model, true noise: average NIS %.3f, factor at most %.3f, %lu of 6000 predictions inflated\n", nis_on,
+           max_on, (unsigned long)h.n_q_inflated);
+    TV_CHECK(max_on < 2.0);
+    TV_CHECK(h.n_q_inflated < 1200u);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+    nis_on = run_noisy(&f, 6000, 3.0, &max_on);
+    pw_on = (double)f.P[1][1];
+    cfg.nis_inflate_alpha = TV_R(0.0);
+    TV_CHECK_EQ_INT(ekf_init(&fref, &p, &cfg), TV_OK);
+    nis_off = run_noisy(&fref, 6000, 3.0, &max_off);
+    ekf_health(&fref, &h);
+    printf("  3x the noise: average NIS %.3f with the inflation (factor up to %.3g), %.3f without; P_ww %.3g vs %.3g\n",
+           nis_on, max_on, nis_off, pw_on, (double)fref.P[1][1]);
+    TV_CHECK(max_on > 10.0);
+    TV_CHECK(nis_on < nis_off);
+    TV_CHECK(pw_on > 1.2 * (double)fref.P[1][1]);
+    TV_CHECK_EQ_INT(h.n_q_inflated, 0);
+    TV_CHECK_NEAR(fref.q_scale, 1.0, 0.0);
+    /* out of range */
+    cfg.nis_inflate_alpha = TV_R(1.5);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
+    cfg.nis_inflate_alpha = TV_R(0.02);
+    cfg.nis_inflate_threshold = TV_R(0.0);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
+    cfg.nis_inflate_threshold = TV_R(1.2);
+    cfg.nis_inflate_max = TV_R(0.5);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
+}
+#endif
+
 int main(int argc, char **argv)
 {
     if (argc > 1) {
@@ -1191,6 +1354,7 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_resistance_error_state);
     TV_TEST_RUN(test_friction_error_state);
     TV_TEST_RUN(test_preload_error_state);
+    TV_TEST_RUN(test_consistency_driven_inflation);
 #endif
     TV_TEST_RUN(test_contact_inflation);
     TV_TEST_RUN(test_model_torque_noise);

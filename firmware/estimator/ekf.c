@@ -169,6 +169,9 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->m_sigma0 = EKF_DEFAULT_M_SIGMA0;
     cfg->m_abs_max = EKF_DEFAULT_M_ABS_MAX;
     cfg->contact_nis_gate = EKF_DEFAULT_CONTACT_NIS_GATE;
+    cfg->nis_inflate_alpha = EKF_DEFAULT_NIS_INFLATE_ALPHA;
+    cfg->nis_inflate_threshold = EKF_DEFAULT_NIS_INFLATE_THRESHOLD;
+    cfg->nis_inflate_max = EKF_DEFAULT_NIS_INFLATE_MAX;
 }
 
 void ekf_config_paper(ekf_config_t *cfg)
@@ -199,6 +202,7 @@ void ekf_config_paper(ekf_config_t *cfg)
     cfg->qf_1_s = TV_R(0.0);
     cfg->qm_1_s = TV_R(0.0);
     cfg->contact_nis_gate = TV_R(0.0);
+    cfg->nis_inflate_alpha = TV_R(0.0);
 }
 
 int ekf_q_from_spectral(const tvm_params_t *p, tv_real_t qu_V2_s, tv_real_t qT_Nm2_s,
@@ -252,7 +256,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->r_sigma0_ohm) || !TV_IS_FINITE(cfg->dr_abs_max_ohm) ||
         !TV_IS_FINITE(cfg->dr_excite_A) || !TV_IS_FINITE(cfg->qf_1_s) || !TV_IS_FINITE(cfg->f_sigma0) ||
         !TV_IS_FINITE(cfg->f_abs_max) || !TV_IS_FINITE(cfg->f_excite_rad_s) || !TV_IS_FINITE(cfg->qm_1_s) ||
-        !TV_IS_FINITE(cfg->m_sigma0) || !TV_IS_FINITE(cfg->m_abs_max)) {
+        !TV_IS_FINITE(cfg->m_sigma0) || !TV_IS_FINITE(cfg->m_abs_max) || !TV_IS_FINITE(cfg->nis_inflate_alpha) ||
+        !TV_IS_FINITE(cfg->nis_inflate_threshold) || !TV_IS_FINITE(cfg->nis_inflate_max)) {
         return TV_ERR_NONFINITE;
     }
     if (cfg->setup != EKF_SETUP_CURRENT_ANGLE && cfg->setup != EKF_SETUP_PAPER_3MEAS) {
@@ -277,7 +282,9 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         cfg->r_sigma0_ohm < TV_R(0.0) || !(cfg->dr_abs_max_ohm > TV_R(0.0)) ||
         cfg->dr_excite_A < TV_R(0.0) || cfg->qf_1_s < TV_R(0.0) || cfg->f_sigma0 < TV_R(0.0) ||
         !(cfg->f_abs_max > TV_R(0.0) && cfg->f_abs_max < TV_R(1.0)) || cfg->f_excite_rad_s < TV_R(0.0) ||
-        cfg->qm_1_s < TV_R(0.0) || cfg->m_sigma0 < TV_R(0.0) || !(cfg->m_abs_max > TV_R(0.0) && cfg->m_abs_max < TV_R(1.0))) {
+        cfg->qm_1_s < TV_R(0.0) || cfg->m_sigma0 < TV_R(0.0) || !(cfg->m_abs_max > TV_R(0.0) && cfg->m_abs_max < TV_R(1.0)) ||
+        cfg->nis_inflate_alpha < TV_R(0.0) || cfg->nis_inflate_alpha > TV_R(1.0) || !(cfg->nis_inflate_threshold > TV_R(0.0)) ||
+        !(cfg->nis_inflate_max >= TV_R(1.0))) {
         return TV_ERR_CONFIG;
     }
     /* the explicit resistance error must leave the current's decay per sub-step in (0, 1):
@@ -292,6 +299,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     memset(ekf, 0, sizeof *ekf);
     ekf->model = model;
     ekf->cfg = *cfg;
+    ekf->nis_avg = TV_R(1.0);
+    ekf->q_scale = TV_R(1.0);
     /* Q is used symmetrised (validated symmetric to 1e-6 relative above). */
     {
         int b;
@@ -303,6 +312,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
             }
         }
     }
+    memcpy(ekf->Qs, ekf->cfg.Q, sizeof ekf->Qs);
     memcpy(ekf->x, cfg->x0, sizeof ekf->x);
     memcpy(ekf->P, cfg->P0, sizeof(mat3_t));
     /* the contact noise: a torque noise of density qc on the plate, nothing on the armature */
@@ -506,7 +516,7 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
     for (a = 0; a < TVM_NX; ++a) {
         TV_UNROLL3
         for (b = a; b < TVM_NX; ++b) {
-            Pn[a][b] = FP[a][0] * F[b][0] + FP[a][1] * F[b][1] + FP[a][2] * F[b][2] + ekf->cfg.Q[a][b];
+            Pn[a][b] = FP[a][0] * F[b][0] + FP[a][1] * F[b][1] + FP[a][2] * F[b][2] + ekf->Qs[a][b];
             if (add_qc) {
                 Pn[a][b] += ekf->Qc[a][b];
             }
@@ -735,6 +745,19 @@ static int inflate_at_contact(tv_real_t phi, mat3_t P, tv_real_t z, tv_real_t r,
     return 1;
 }
 
+/* The factor on Q of the next predictions and the scaled Q they add (ekf_t::Qs). */
+static void set_q_scale(ekf_t *ekf, tv_real_t scale)
+{
+    int a;
+    int b;
+    ekf->q_scale = scale;
+    for (a = 0; a < TVM_NX; ++a) {
+        for (b = 0; b < TVM_NX; ++b) {
+            ekf->Qs[a][b] = scale * ekf->cfg.Q[a][b];
+        }
+    }
+}
+
 int ekf_correct(ekf_t *ekf, const ekf_meas_t *meas, ekf_innov_t *out)
 {
     return ekf_correct_channels(ekf, meas, EKF_CH_BIT(EKF_CH_CURRENT) | EKF_CH_BIT(EKF_CH_VELOCITY) | EKF_CH_BIT(EKF_CH_ANGLE),
@@ -838,6 +861,21 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     aug_put(ekf, &ap);
     if (res.n_used > 0u) {
         ++ekf->n_correct;
+        if (ekf->cfg.nis_inflate_alpha > TV_R(0.0)) {
+            /* consistency-driven inflation (ekf_config_t::nis_inflate_alpha): the average NIS
+             * per channel, low-pass; Q of the next predictions scaled by its square excess. The
+             * scaled Q is formed here, only when the factor changes (a consistent filter pays
+             * the average alone) */
+            const tv_real_t v = res.nis_total / (tv_real_t)res.n_used;
+            ekf->nis_avg += ekf->cfg.nis_inflate_alpha * ((v < EKF_NIS_INFLATE_CLIP ? v : EKF_NIS_INFLATE_CLIP) - ekf->nis_avg);
+            if (ekf->nis_avg > ekf->cfg.nis_inflate_threshold) {
+                const tv_real_t r = ekf->nis_avg / ekf->cfg.nis_inflate_threshold;
+                set_q_scale(ekf, r * r < ekf->cfg.nis_inflate_max ? r * r : ekf->cfg.nis_inflate_max);
+                ++ekf->n_q_inflated;
+            } else if (ekf->q_scale != TV_R(1.0)) {
+                set_q_scale(ekf, TV_R(1.0));
+            }
+        }
     }
     ekf->n_inflate += n_inflate;
     if (res.used[EKF_CH_ANGLE] && ekf->cfg.stop_learn_margin_rad > TV_R(0.0)) {
@@ -871,10 +909,6 @@ void ekf_sigma(const ekf_t *ekf, tv_real_t sigma[TVM_NX])
     }
 }
 
-void ekf_state(const ekf_t *ekf, tv_real_t x[TVM_NX])
-{
-    memcpy(x, ekf->x, sizeof ekf->x);
-}
 
 void ekf_covariance(const ekf_t *ekf, tv_real_t P[TVM_NX][TVM_NX])
 {
@@ -916,41 +950,18 @@ int ekf_set_contact_law(ekf_t *ekf, tv_real_t k_stop, tv_real_t exponent, tv_rea
     return rc;
 }
 
-void ekf_stops(const ekf_t *ekf, tv_real_t *phi_closed_rad, tv_real_t *phi_open_rad)
-{
-    *phi_closed_rad = ekf->model.p.phi_closed_rad;
-    *phi_open_rad = ekf->model.p.phi_open_rad;
-}
 
-void ekf_contact_torque(const ekf_t *ekf, tv_real_t *d_Nm, tv_real_t *sigma_Nm)
-{
-    *d_Nm = ekf->aug[TVM_A_TORQUE];
-    *sigma_Nm = TV_SQRT(ekf->Paa[TVM_A_TORQUE][TVM_A_TORQUE]);
-}
 
-void ekf_resistance_error(const ekf_t *ekf, tv_real_t *dR_ohm, tv_real_t *sigma_ohm)
-{
-    *dR_ohm = ekf->aug[TVM_A_DR];
-    *sigma_ohm = TV_SQRT(ekf->Paa[TVM_A_DR][TVM_A_DR]);
-}
 
-void ekf_friction_error(const ekf_t *ekf, tv_real_t *f, tv_real_t *sigma)
-{
-    *f = ekf->aug[TVM_A_FRIC];
-    *sigma = TV_SQRT(ekf->Paa[TVM_A_FRIC][TVM_A_FRIC]);
-}
 
-void ekf_preload_error(const ekf_t *ekf, tv_real_t *m, tv_real_t *sigma)
-{
-    *m = ekf->aug[TVM_A_PRELOAD];
-    *sigma = TV_SQRT(ekf->Paa[TVM_A_PRELOAD][TVM_A_PRELOAD]);
-}
 
 void ekf_health(const ekf_t *ekf, ekf_health_t *h)
 {
     h->n_contact = ekf->n_contact;
     h->n_stop_moves = ekf->n_stop_moves;
     h->n_inflate = ekf->n_inflate;
+    h->n_q_inflated = ekf->n_q_inflated;
+    h->q_scale = ekf->q_scale;
     h->n_predict = ekf->n_predict;
     h->n_correct = ekf->n_correct;
     h->n_rejected = ekf->n_rejected;

@@ -312,6 +312,12 @@ struct Config {
     /** Model-torque noise (ekf.h ekf_config_t::qT_rel_s) [s]: the plate's torque density grows
      *  by qT_rel_s T^2, T = |n Kt i| + Kv |w| of the state before the step. */
     double qT_rel_s = 0.0;
+    /** Consistency-driven inflation (ekf.h ekf_config_t::nis_inflate_alpha ...): the NIS per
+     *  channel of each correction, clipped at 100, low-pass with gain alpha from 1; Q of the
+     *  next predictions times (average / threshold)^2 above the threshold, at most max. */
+    double nis_inflate_alpha = 0.0;
+    double nis_inflate_threshold = 1.2;
+    double nis_inflate_max = 100.0;
 };
 
 /**
@@ -335,6 +341,11 @@ inline Eigen::Matrix3d q_from_spectral(const Params& p, double qu_V2_s, double q
 const double kDefaultQu_V2_s = 5.0e-6;
 const double kDefaultQT_Nm2_s = 5.0e-6;
 const double kDefaultQTRel_s = 0.0;
+/** EKF_DEFAULT_NIS_INFLATE_ALPHA / _THRESHOLD / _MAX and EKF_NIS_INFLATE_CLIP (ekf.h). */
+const double kDefaultNisInflateAlpha = 0.02;
+const double kDefaultNisInflateThreshold = 1.2;
+const double kDefaultNisInflateMax = 100.0;
+const double kNisInflateClip = 100.0;
 
 /** ekf_config_default() as documented in ekf.h. */
 inline Config config_default(const Params& p, Setup setup)
@@ -345,6 +356,9 @@ inline Config config_default(const Params& p, Setup setup)
     c.P0 = Eigen::Vector3d(1.0, 100.0, 0.01).asDiagonal();
     c.Q = q_from_spectral(p, kDefaultQu_V2_s, kDefaultQT_Nm2_s);
     c.qT_rel_s = kDefaultQTRel_s;
+    c.nis_inflate_alpha = kDefaultNisInflateAlpha;
+    c.nis_inflate_threshold = kDefaultNisInflateThreshold;
+    c.nis_inflate_max = kDefaultNisInflateMax;
     c.r = Eigen::Vector3d(1.054e-4, 1.0, 2.668e-8);
     c.var_floor = Eigen::Vector3d::Constant(1e-12);
     c.var_ceil = Eigen::Vector3d(1e4, 1e6, 10.0);
@@ -398,7 +412,7 @@ public:
     void predict_with(const Eigen::Matrix3d& F, const Eigen::Vector3d& x_pred, double q_model_Nm2_s = 0.0)
     {
         x_ = x_pred;
-        P_ = F * P_ * F.transpose() + c_.Q + q_from_spectral(p_, 0.0, q_model_Nm2_s);
+        P_ = F * P_ * F.transpose() + q_scale_ * c_.Q + q_from_spectral(p_, 0.0, q_model_Nm2_s);
         symmetrise();
         apply_bounds();
     }
@@ -431,8 +445,17 @@ public:
             ++out.n_used;
         }
         apply_bounds();
+        if (out.n_used > 0 && c_.nis_inflate_alpha > 0.0) {
+            const double v = std::min(out.nis_total / out.n_used, kNisInflateClip);
+            nis_avg_ += c_.nis_inflate_alpha * (v - nis_avg_);
+            const double r = nis_avg_ / c_.nis_inflate_threshold;
+            q_scale_ = r > 1.0 ? std::min(r * r, c_.nis_inflate_max) : 1.0;
+        }
         return out;
     }
+
+    /** The factor on Q of the next prediction (consistency-driven inflation). */
+    double q_scale() const { return q_scale_; }
 
 private:
     void symmetrise() { P_ = (0.5 * (P_ + P_.transpose())).eval(); }
@@ -456,6 +479,8 @@ private:
     Config c_;
     Eigen::Vector3d x_;
     Eigen::Matrix3d P_;
+    double nis_avg_ = 1.0;
+    double q_scale_ = 1.0;
 };
 
 } // namespace tvref
