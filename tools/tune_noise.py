@@ -21,8 +21,9 @@ POPULATION MODE (--population): Q tuned over the TRAINING units of the throttle 
 (host_sim/plant/plant_draw.h; unit IDs 0 .. N-1, noise seeds 1001 .. 1000 + S; the population
 benchmark scores units 1000 .. with seeds 1 .., so training and evaluation share neither units nor
 noise). For every (qu, qT, qc, qT_rel) of the grid (qc: the torque-noise density added in the
-contact band, ekf.qc_Nm2_s; qT_rel: the model-torque noise, ekf.qT_rel_s; --grid-qu .. --grid-qrel
-restrict it) the population executable runs both sections (stops_varied,
+contact band, ekf.qc_Nm2_s; qT_rel: the model-torque noise, ekf.qT_rel_s; inflate: the
+consistency-driven inflation's threshold, ekf.nis_inflate_threshold, 0 = off; --grid-qu ..
+--grid-inflate restrict it) the population executable runs both sections (stops_varied,
 all_varied) over the scenario mix with the filter's other settings at their defaults (learned stops
 and contact law, contact inflation, resistance-error state), and the setting is chosen by a fixed
 rule, in this order:
@@ -43,7 +44,7 @@ between consistency and accuracy is on record whichever setting the rule picks.
 
 Usage: tools/tune_noise.py [--host-sim PATH] [--seeds M] [--scenario NAME]
        tools/tune_noise.py --population [--population-exe PATH] [--plants N] [--seeds S]
-                           [--grid-qu L] [--grid-qT L] [--grid-qc L] [--grid-qrel L]
+                           [--grid-qu L] [--grid-qT L] [--grid-qc L] [--grid-qrel L] [--grid-inflate L]
 """
 import argparse
 import csv
@@ -90,20 +91,25 @@ POP_GRID_QU = [2e-6, 5e-6, 1e-5, 2e-5]
 POP_GRID_QT = [2e-6, 5e-6, 1e-5, 1e-4]
 POP_GRID_QC = [0.0, 1e-5, 2e-5, 5e-5]
 POP_GRID_QREL = [0.0, 1e-5, 3e-5]
+POP_GRID_INFLATE = [1.2]  # ekf.nis_inflate_threshold (0 = the inflation off); the default 1.2
 
 
-def params_text(qu, qT, qc, qrel):
-    return (f"ekf.qu_V2_s = {qu!r}\nekf.qT_Nm2_s = {qT!r}\nekf.qc_Nm2_s = {qc!r}\n"
+def params_text(qu, qT, qc, qrel, inflate):
+    text = (f"ekf.qu_V2_s = {qu!r}\nekf.qT_Nm2_s = {qT!r}\nekf.qc_Nm2_s = {qc!r}\n"
             f"ekf.qT_rel_s = {qrel!r}\n")
+    if inflate > 0.0:
+        return text + f"ekf.nis_inflate_threshold = {inflate!r}\n"
+    return text + "ekf.nis_inflate_alpha = 0\n"
 
 
-def run_population(exe, qu, qT, qc, qrel, plants, seeds, tmp):
-    """One population run on the training units with (qu, qT, qc, qT_rel); the summary as a dict."""
+def run_population(exe, setting, plants, seeds, tmp):
+    """One population run on the training units with setting = (qu, qT, qc, qT_rel, inflate); the
+    summary as a dict."""
     params = os.path.join(tmp, "q.params")
     out = os.path.join(tmp, "summary.json")
     runs = os.path.join(tmp, "runs.csv")
     with open(params, "w", encoding="utf-8") as fh:
-        fh.write(params_text(qu, qT, qc, qrel))
+        fh.write(params_text(*setting))
     cmd = [exe, "--first-unit", "0", "--plants", str(plants), "--first-seed", str(POP_FIRST_TRAIN_SEED),
            "--seeds", str(seeds), "--sections", "stops,all", "--params", params, "--json", out, "--runs-csv", runs]
     res = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
@@ -119,10 +125,11 @@ def run_population(exe, qu, qT, qc, qrel, plants, seeds, tmp):
     return summary
 
 
-def population_row(qu, qT, qc, qrel, summary):
+def population_row(setting, summary):
+    qu, qT, qc, qrel, inflate = setting
     secs = [summary["stops_varied"], summary["all_varied"]]
     return {
-        "qu_V2_s": qu, "qT_Nm2_s": qT, "qc_Nm2_s": qc, "qT_rel_s": qrel,
+        "qu_V2_s": qu, "qT_Nm2_s": qT, "qc_Nm2_s": qc, "qT_rel_s": qrel, "nis_inflate_threshold": inflate,
         "nominal_rmse_rad_s": summary["nominal_paper_sine_velocity_rmse_rad_s"],
         "flags": sum(s["consistency_flags_healthy"] for s in secs),
         "dtc_runs": sum(s["runs_with_dtc_confirmed"] for s in secs),
@@ -136,11 +143,11 @@ def population_row(qu, qT, qc, qrel, summary):
     }
 
 
-def nominal_mc(host_sim, qu, qT, qc, qrel, tmp, seeds=50):
-    """(ANEES, band) of the nominal unit's paper sine over training seeds 1001 .., with (qu, qT, qc, qT_rel)."""
+def nominal_mc(host_sim, setting, tmp, seeds=50):
+    """(ANEES, band) of the nominal unit's paper sine over training seeds 1001 .., with setting."""
     params = os.path.join(tmp, "nominal.params")
     with open(params, "w", encoding="utf-8") as fh:
-        fh.write(params_text(qu, qT, qc, qrel))
+        fh.write(params_text(*setting))
     cmd = [host_sim, "--scenario", "paper_sine", "--mc", str(seeds), "--seed", "1001", "--params", params,
            "--out", tmp]
     res = subprocess.run(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
@@ -174,21 +181,22 @@ def main_population(a):
     if not 1 <= a.plants <= 1000 or not 1 <= a.seeds <= 100:
         sys.exit(f"tune_noise: --plants must be 1..1000 and --seeds 1..100 in --population mode")
     rows = []
-    grid = list(itertools.product(a.grid_qu, a.grid_qT, a.grid_qc, a.grid_qrel))
+    grid = list(itertools.product(a.grid_qu, a.grid_qT, a.grid_qc, a.grid_qrel, a.grid_inflate))
     print(f"population mode: training units 0..{a.plants - 1}, seeds {POP_FIRST_TRAIN_SEED}.."
-          f"{POP_FIRST_TRAIN_SEED + a.seeds - 1}, {len(grid)} (qu, qT, qc, qT_rel) settings")
-    print("     qu        qT        qc    qT_rel   nominal  flags   dtc incons  NEES0.1s  NEESrun  worst  median(stops, all)  nominal ANEES")
+          f"{POP_FIRST_TRAIN_SEED + a.seeds - 1}, {len(grid)} (qu, qT, qc, qT_rel, inflate) settings")
+    print("     qu        qT        qc    qT_rel inflate   nominal  flags   dtc incons  NEES0.1s  NEESrun  worst  median(stops, all)  nominal ANEES")
     with tempfile.TemporaryDirectory() as tmp:
-        for n, (qu, qT, qc, qrel) in enumerate(grid, 1):
-            r = population_row(qu, qT, qc, qrel, run_population(a.population_exe, qu, qT, qc, qrel, a.plants, a.seeds, tmp))
+        for n, setting in enumerate(grid, 1):
+            qu, qT, qc, qrel, inflate = setting
+            r = population_row(setting, run_population(a.population_exe, setting, a.plants, a.seeds, tmp))
             rows.append(r)
             if r["nominal_rmse_rad_s"] <= NOMINAL_MAX_RAD_S:
-                anees, band = nominal_mc(a.host_sim, qu, qT, qc, qrel, tmp)
+                anees, band = nominal_mc(a.host_sim, setting, tmp)
                 r["nominal_anees"], r["nominal_band"] = anees, band
                 r["nominal_consistent"] = band[0] <= anees <= band[1]
             else:
                 r["nominal_anees"], r["nominal_band"], r["nominal_consistent"] = None, None, False
-            print(f"{qu:7.1e} {qT:9.1e} {qc:9.1e} {qrel:9.1e} {r['nominal_rmse_rad_s']:9.4f} {r['flags']:6d} {r['dtc_runs']:5d} {r['inconsistent_runs']:6d} "
+            print(f"{qu:7.1e} {qT:9.1e} {qc:9.1e} {qrel:9.1e} {inflate:7.2f} {r['nominal_rmse_rad_s']:9.4f} {r['flags']:6d} {r['dtc_runs']:5d} {r['inconsistent_runs']:6d} "
                   f"{r['nees_window_max']:9.1f} "
                   f"{r['nees_run_avg_max']:8.2f} {r['worst_ratio']:6.2f}  {r['median_ratio_stops']:5.2f} "
                   f"{r['median_ratio_all']:5.2f}  "
@@ -200,11 +208,16 @@ def main_population(a):
         json.dump({"plants": a.plants, "seeds": a.seeds, "first_seed": POP_FIRST_TRAIN_SEED,
                    "nominal_max_rad_s": NOMINAL_MAX_RAD_S, "rows": rows, "chosen": best, "why": why}, fh, indent=1)
     print(f"chosen ({why}): qu = {best['qu_V2_s']:g} V^2 s, qT = {best['qT_Nm2_s']:g} N^2 m^2 s, "
-          f"qc = {best['qc_Nm2_s']:g} N^2 m^2 s, qT_rel = {best['qT_rel_s']:g} s")
+          f"qc = {best['qc_Nm2_s']:g} N^2 m^2 s, qT_rel = {best['qT_rel_s']:g} s, "
+          f"inflation threshold = {best['nis_inflate_threshold']:g} (0 = off)")
     print(f"#define EKF_DEFAULT_QU_V2_S TV_R({best['qu_V2_s']:.1e})")
     print(f"#define EKF_DEFAULT_QT_NM2_S TV_R({best['qT_Nm2_s']:.1e})")
     print(f"#define EKF_DEFAULT_QC_NM2_S TV_R({best['qc_Nm2_s']:.1e})")
     print(f"#define EKF_DEFAULT_QT_REL_S TV_R({best['qT_rel_s']:.1e})")
+    if best["nis_inflate_threshold"] > 0.0:
+        print(f"#define EKF_DEFAULT_NIS_INFLATE_THRESHOLD TV_R({best['nis_inflate_threshold']:g})")
+    else:
+        print("#define EKF_DEFAULT_NIS_INFLATE_ALPHA TV_R(0.0)")
     print(f"wrote {a.json}")
 
 
@@ -228,7 +241,8 @@ def main():
     ap.add_argument("--population-exe", default="build/host-release/bin/population")
     ap.add_argument("--plants", type=int, default=30, help="--population: training units per section (default 30)")
     ap.add_argument("--json", default="out/tune_noise/population.json", help="--population: where to write every pair")
-    for name, grid in (("qu", POP_GRID_QU), ("qT", POP_GRID_QT), ("qc", POP_GRID_QC), ("qrel", POP_GRID_QREL)):
+    for name, grid in (("qu", POP_GRID_QU), ("qT", POP_GRID_QT), ("qc", POP_GRID_QC), ("qrel", POP_GRID_QREL),
+                       ("inflate", POP_GRID_INFLATE)):
         ap.add_argument(f"--grid-{name}", type=float_list, default=grid,
                         help=f"--population: the {name} values searched, comma-separated (default {','.join(map(str, grid))})")
     a = ap.parse_args()
