@@ -774,6 +774,7 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     unsigned frozen;
     uint8_t use[EKF_NCH];
     uint32_t n_inflate = 0u;
+    tv_real_t nis_clipped = TV_R(0.0); /* the channels' NIS, each at most EKF_NIS_INFLATE_CLIP */
     int ch;
     if (ekf == NULL || meas == NULL) {
         if (out != NULL) {
@@ -840,6 +841,7 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
             }
             res.nis[ch] = res.innov[ch] * res.innov[ch] / res.innov_var[ch];
             res.nis_total += res.nis[ch];
+            nis_clipped += res.nis[ch] < EKF_NIS_INFLATE_CLIP ? res.nis[ch] : EKF_NIS_INFLATE_CLIP;
             res.used[ch] = 1;
             ++res.n_used;
         }
@@ -862,12 +864,11 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     if (res.n_used > 0u) {
         ++ekf->n_correct;
         if (ekf->cfg.nis_inflate_alpha > TV_R(0.0)) {
-            /* consistency-driven inflation (ekf_config_t::nis_inflate_alpha): the average NIS
-             * per channel, low-pass; Q of the next predictions scaled by its square excess. The
+            /* consistency-driven inflation (ekf_config_t::nis_inflate_alpha): the clipped NIS per
+             * channel, low-pass; Q of the next predictions scaled by its square excess. The
              * scaled Q is formed here, only when the factor changes (a consistent filter pays
              * the average alone) */
-            const tv_real_t v = res.nis_total / (tv_real_t)res.n_used;
-            ekf->nis_avg += ekf->cfg.nis_inflate_alpha * ((v < EKF_NIS_INFLATE_CLIP ? v : EKF_NIS_INFLATE_CLIP) - ekf->nis_avg);
+            ekf->nis_avg += ekf->cfg.nis_inflate_alpha * (nis_clipped / (tv_real_t)res.n_used - ekf->nis_avg);
             if (ekf->nis_avg > ekf->cfg.nis_inflate_threshold) {
                 const tv_real_t r = ekf->nis_avg / ekf->cfg.nis_inflate_threshold;
                 set_q_scale(ekf, r * r < ekf->cfg.nis_inflate_max ? r * r : ekf->cfg.nis_inflate_max);

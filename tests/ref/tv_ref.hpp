@@ -312,9 +312,10 @@ struct Config {
     /** Model-torque noise (ekf.h ekf_config_t::qT_rel_s) [s]: the plate's torque density grows
      *  by qT_rel_s T^2, T = |n Kt i| + Kv |w| of the state before the step. */
     double qT_rel_s = 0.0;
-    /** Consistency-driven inflation (ekf.h ekf_config_t::nis_inflate_alpha ...): the NIS per
-     *  channel of each correction, clipped at 100, low-pass with gain alpha from 1; Q of the
-     *  next predictions times (average / threshold)^2 above the threshold, at most max. */
+    /** Consistency-driven inflation (ekf.h ekf_config_t::nis_inflate_alpha ...): the mean over
+     *  the used channels of each correction's NIS, each clipped at 9, low-pass with gain alpha
+     *  from 1; Q of the next predictions times (average / threshold)^2 above the threshold, at
+     *  most max. */
     double nis_inflate_alpha = 0.0;
     double nis_inflate_threshold = 1.2;
     double nis_inflate_max = 100.0;
@@ -345,7 +346,7 @@ const double kDefaultQTRel_s = 0.0;
 const double kDefaultNisInflateAlpha = 0.02;
 const double kDefaultNisInflateThreshold = 1.2;
 const double kDefaultNisInflateMax = 100.0;
-const double kNisInflateClip = 100.0;
+const double kNisInflateClip = 9.0;
 
 /** ekf_config_default() as documented in ekf.h. */
 inline Config config_default(const Params& p, Setup setup)
@@ -446,7 +447,11 @@ public:
         }
         apply_bounds();
         if (out.n_used > 0 && c_.nis_inflate_alpha > 0.0) {
-            const double v = std::min(out.nis_total / out.n_used, kNisInflateClip);
+            double v = 0.0;
+            for (int j = 0; j < 3; ++j) {
+                v += out.used[j] ? std::min(out.nis(j), kNisInflateClip) : 0.0;
+            }
+            v /= out.n_used;
             nis_avg_ += c_.nis_inflate_alpha * (v - nis_avg_);
             const double r = nis_avg_ / c_.nis_inflate_threshold;
             q_scale_ = r > 1.0 ? std::min(r * r, c_.nis_inflate_max) : 1.0;
