@@ -283,11 +283,11 @@ static void test_population_subset_closed_loop_and_standstill(void)
  * state"): all_varied evaluation unit 1020, whose winding is 3.59 ohm against the model's 4.3,
  * in open_steps (10 V against each stop for 0.5 s), after the start-up stop learning as the
  * benchmark runs it. With the state (the default) the filter beats differentiating the angle
- * (measured 2.15x) and its R + dR ends within 3 % of the plant's R (measured 0.0 %); without it
+ * (measured 2.13x) and its R + dR ends within 3 % of the plant's R (measured 0.0 %); without it
  * (ekf.qr_ohm2_s = 0) and without the consistency-driven inflation (ekf.nis_inflate_alpha = 0)
  * the current the model cannot explain is read as velocity at rest (measured 0.17x, the old
  * worst run of the benchmark); the inflation alone, its sigma widened by the large current
- * innovations, keeps it at 2.13x but does not know the winding.
+ * innovations, keeps it at 1.76x but does not know the winding.
  */
 /* An all_varied unit, its filter configured for it and run through the start-up stop learning,
  * whose result goes into the filter as the application puts it (as the benchmark runs it). */
