@@ -106,8 +106,16 @@ def synthetic(d):
 def real(d, pop):
     os.makedirs(os.path.join(d, "runs"))
     subprocess.run([pop, "--plants", "1", "--seeds", "1", "--sections", "stops", "--scenarios", "drive", "--duration", "3",
-                    "--fault", "tps2_offset:-1@1.5", "--runs-csv", os.path.join(d, "runs", "tps2_offset:-1.csv")],
+                    "--fault", "tps2_offset:-1@1.5", "--runs-csv", os.path.join(d, "runs", "tps2_offset:-1.csv"),
+                    "--json", os.path.join(d, "population.json")],
                    check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    # the population summary's nominal unit: seed 1 (the figure) and the spread over 20 seeds
+    p = json.load(open(os.path.join(d, "population.json")))
+    n = p["nominal_paper_sine_over_seeds"]
+    check(n["seeds"] == 20, "the nominal unit is run over 20 seeds")
+    check(n["min_rad_s"] <= p["nominal_paper_sine_velocity_rmse_rad_s"] <= n["max_rad_s"],
+          "seed 1's figure lies within the seeds' range (%s in %s .. %s)" % (p["nominal_paper_sine_velocity_rmse_rad_s"], n["min_rad_s"], n["max_rad_s"]))
+    check(n["min_rad_s"] < n["mean_rad_s"] < n["max_rad_s"], "the mean lies strictly inside the range")
     subprocess.run([sys.executable, SCRIPT, d], check=True, stdout=subprocess.DEVNULL)
     s = json.load(open(os.path.join(d, "summary.json")))
     t = s["classes"].get("tps2_fault")
