@@ -14,19 +14,12 @@ import subprocess
 import sys
 import tempfile
 
+import tv_check
+from tv_check import check
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPT = os.path.join(HERE, "..", "tools", "fault_matrix.py")
 HEAD = ["section", "unit", "class", "scenario", "seed", "duration_s", "injected", "dtc_codes"]
-failures = 0
-
-
-def check(cond, what):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL: " + what)
-    else:
-        print("ok: " + what)
 
 
 def write(path, rows):
@@ -151,8 +144,8 @@ def main():
         if len(sys.argv) > 1:
             real(os.path.join(d, "b"), sys.argv[1])
             identified(os.path.join(d, "c"), sys.argv[1])
-    print("%d failure(s)" % failures)
-    return 1 if failures else 0
+    print("%d failure(s)" % tv_check.failures)
+    return 1 if tv_check.failures else 0
 
 
 if __name__ == "__main__":

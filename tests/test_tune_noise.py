@@ -10,18 +10,11 @@ import subprocess
 import sys
 import tempfile
 
+import tv_check
+from tv_check import check
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPT = os.path.join(HERE, "..", "tools", "tune_noise.py")
-failures = 0
-
-
-def check(cond, what):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL: " + what)
-    else:
-        print("ok: " + what)
 
 
 def main():
@@ -43,7 +36,7 @@ def main():
           % (off["nees_run_avg_max"], off["nees_window_max"], on["nees_run_avg_max"], on["nees_window_max"]))
     check(on["nees_run_avg_max"] <= off["nees_run_avg_max"], "inflated, the largest run-average NEES is not higher")
     check(j["chosen"] in rows and j["why"], "a row is chosen, with the rule's reason")
-    return 1 if failures else 0
+    return 1 if tv_check.failures else 0
 
 
 if __name__ == "__main__":
