@@ -10,6 +10,7 @@
 
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_min.h>
+#include <gsl/gsl_multimin.h>
 #include <gsl/gsl_multifit.h>
 #include <gsl/gsl_sort.h>
 #include <gsl/gsl_sort_ulong.h>
@@ -70,6 +71,20 @@
 /** Damping ratios lambda / k tried by the impacts [s/rad]: 0.04 .. 0.64 in steps of 2^(1/4) (the
  *  population draws 0.05 .. 0.5; impact learning keeps 0.04 .. 0.8). */
 #define ID_DAMP_GRID 17
+/** Step 4's joint refinement (Nelder-Mead): bounds of the exponent, of the damping ratio (impact
+ *  learning's, impact_learn.h) [s/rad] and of the onsets' moves from the grid's law [rad]; the
+ *  simplex's first steps (exponent; ln secant stiffness; ln ratio; onsets [mrad]); its iteration
+ *  cap and size tolerance. */
+#define ID_REF_E_LO 1.0
+#define ID_REF_E_HI 2.5
+#define ID_REF_DAMP_LO 0.04
+#define ID_REF_DAMP_HI 0.8
+#define ID_REF_ONSET_MRAD 3.0
+#define ID_REF_STEP_E 0.1
+#define ID_REF_STEP_LN 0.3
+#define ID_REF_STEP_ONSET_MRAD 0.3
+#define ID_REF_ITER 600
+#define ID_REF_TOL 1e-4
 
 static const char *const s_names[ID_P_COUNT] = {"R", "L", "nKe = nKt", "J", "M0", "c", "Mc", "Ms", "ws", "Kv",
                                                 "phi_closed", "phi_open", "k_stop", "stop_exponent", "stop_damping"};
@@ -730,6 +745,9 @@ typedef struct {
     double a0[ID_EXP_GRID][2];
     double k[ID_EXP_GRID][2];
     double sse[ID_EXP_GRID];
+    double lvF[2][SL_LEVELS]; /* the rest levels the laws were fitted to: force [N m] */
+    double lvA[2][SL_LEVELS]; /* and rest angle [rad] */
+    unsigned nlev[2];
 } id_laws_t;
 
 static int fit_stops(const id_data_t *d, id_result_t *res, id_laws_t *laws)
@@ -980,6 +998,14 @@ static int fit_stops(const id_data_t *d, id_result_t *res, id_laws_t *laws)
             cand_e = best_e;
             memcpy(cand_a0, best_a0, sizeof cand_a0);
             memcpy(cand_k, best_k, sizeof cand_k);
+            for (s = 0; s < 2; ++s) {
+                unsigned l;
+                tab.nlev[s] = nlev[s];
+                for (l = 0; l < nlev[s]; ++l) {
+                    tab.lvF[s][l] = (double)lvF[s][l];
+                    tab.lvA[s][l] = (double)lvA[s][l];
+                }
+            }
             *laws = tab;
         }
     }
@@ -1108,6 +1134,135 @@ static double impact_sse(const id_data_t *d, const id_sig_t *sg, const tvm_param
     return sse;
 }
 
+/* Step 4's joint refinement (identify.h): the problem the simplex minimises. */
+typedef struct {
+    const id_data_t *d;
+    const id_sig_t *sg;
+    const id_laws_t *laws;
+    const size_t *k0;
+    size_t nimp;
+    tvm_params_t p;  /* the identified model; the law's fields are set per evaluation */
+    double a0[2];    /* the grid's law's onsets [rad] */
+    double ksec[2];  /* bounds of the secant stiffness at SL_P_REF_RAD [N m/rad] */
+} id_refine_t;
+
+/* v held in [lo, hi]; the squared excess is added to *pen (the simplex is steered back inside). */
+static double held(double v, double lo, double hi, double *pen)
+{
+    if (v < lo) {
+        *pen += (lo - v) * (lo - v);
+        return lo;
+    }
+    if (v > hi) {
+        *pen += (v - hi) * (v - hi);
+        return hi;
+    }
+    return v;
+}
+
+/* The law of th = (exponent, ln secant stiffness at SL_P_REF_RAD, ln damping ratio, closed and
+ * open onset moves [mrad]) into p. */
+static void refine_law(const id_refine_t *r, const double th[5], tvm_params_t *p, double *pen)
+{
+    const double e = held(th[0], ID_REF_E_LO, ID_REF_E_HI, pen);
+    const double ks = exp(held(th[1], log(r->ksec[0]), log(r->ksec[1]), pen));
+    const double ratio = exp(held(th[2], log(ID_REF_DAMP_LO), log(ID_REF_DAMP_HI), pen));
+    *p = r->p;
+    p->stop_exponent = (tv_real_t)e;
+    p->k_stop_Nm_rad = (tv_real_t)(ks * pow((double)SL_P_REF_RAD, 1.0 - e));
+    p->d_stop_Nm_s_rad = (tv_real_t)(ratio * (double)p->k_stop_Nm_rad);
+    p->phi_closed_rad = (tv_real_t)(r->a0[0] + 1e-3 * held(th[3], -ID_REF_ONSET_MRAD, ID_REF_ONSET_MRAD, pen));
+    p->phi_open_rad = (tv_real_t)(r->a0[1] + 1e-3 * held(th[4], -ID_REF_ONSET_MRAD, ID_REF_ONSET_MRAD, pen));
+}
+
+/* The mean squared angle error of the impacts' replay plus that of the rest levels under the
+ * law (the static fit's data) [rad^2], plus the bounds' penalty. */
+static double refine_cost(const gsl_vector *v, void *arg)
+{
+    const id_refine_t *r = (const id_refine_t *)arg;
+    double th[5];
+    double pen = 0.0;
+    double stat = 0.0;
+    size_t nstat = 0;
+    size_t j;
+    int s;
+    tvm_params_t p;
+    for (j = 0; j < 5u; ++j) {
+        th[j] = gsl_vector_get(v, j);
+    }
+    refine_law(r, th, &p, &pen);
+    for (s = 0; s < 2; ++s) {
+        const double a0 = s == 0 ? (double)p.phi_closed_rad : (double)p.phi_open_rad;
+        const double dir = s == 0 ? -1.0 : 1.0;
+        unsigned l;
+        for (l = 0; l < r->laws->nlev[s]; ++l) {
+            const double f = r->laws->lvF[s][l];
+            const double res = r->laws->lvA[s][l] -
+                               (a0 + dir * pow(f > 0.0 ? f / (double)p.k_stop_Nm_rad : 0.0, 1.0 / (double)p.stop_exponent));
+            stat += res * res;
+            ++nstat;
+        }
+    }
+    return impact_sse(r->d, r->sg, &p, r->k0, r->nimp) / (double)(r->nimp * ID_IMP_LEN) +
+           (nstat > 0u ? stat / (double)nstat : 0.0) + 1e-6 * pen;
+}
+
+/* Refines the grid's law p (exponent e, damping ratio damp) jointly by GSL's Nelder-Mead simplex
+ * (gsl_multimin_fminimizer_nmsimplex2); p gets the result. Returns 0 when the simplex could not
+ * be set up (p unchanged). */
+static int refine_simplex(id_refine_t *r, tvm_params_t *p, double e, double damp, double *cost0, double *cost1)
+{
+    gsl_multimin_fminimizer *mz = gsl_multimin_fminimizer_alloc(gsl_multimin_fminimizer_nmsimplex2, 5u);
+    gsl_vector *x = gsl_vector_alloc(5u);
+    gsl_vector *st = gsl_vector_alloc(5u);
+    gsl_multimin_function fn;
+    double th[5];
+    double pen = 0.0;
+    size_t j;
+    int it;
+    if (mz == NULL || x == NULL || st == NULL) {
+        gsl_multimin_fminimizer_free(mz);
+        gsl_vector_free(x);
+        gsl_vector_free(st);
+        return 0;
+    }
+    gsl_vector_set(x, 0u, e);
+    gsl_vector_set(x, 1u, log((double)p->k_stop_Nm_rad * pow((double)SL_P_REF_RAD, e - 1.0)));
+    gsl_vector_set(x, 2u, log(damp));
+    gsl_vector_set(x, 3u, 0.0);
+    gsl_vector_set(x, 4u, 0.0);
+    gsl_vector_set(st, 0u, ID_REF_STEP_E);
+    gsl_vector_set(st, 1u, ID_REF_STEP_LN);
+    gsl_vector_set(st, 2u, ID_REF_STEP_LN);
+    gsl_vector_set(st, 3u, ID_REF_STEP_ONSET_MRAD);
+    gsl_vector_set(st, 4u, ID_REF_STEP_ONSET_MRAD);
+    fn.n = 5u;
+    fn.f = refine_cost;
+    fn.params = r;
+    *cost0 = refine_cost(x, r);
+    gsl_multimin_fminimizer_set(mz, &fn, x, st);
+    for (it = 0; it < ID_REF_ITER; ++it) {
+        if (gsl_multimin_fminimizer_iterate(mz) != GSL_SUCCESS ||
+            gsl_multimin_test_size(gsl_multimin_fminimizer_size(mz), ID_REF_TOL) == GSL_SUCCESS) {
+            break;
+        }
+    }
+    *cost1 = gsl_multimin_fminimizer_minimum(mz);
+    if (*cost1 < *cost0) {
+        const gsl_vector *xm = gsl_multimin_fminimizer_x(mz);
+        for (j = 0; j < 5u; ++j) {
+            th[j] = gsl_vector_get(xm, j);
+        }
+        refine_law(r, th, p, &pen);
+    } else {
+        *cost1 = *cost0;
+    }
+    gsl_multimin_fminimizer_free(mz);
+    gsl_vector_free(x);
+    gsl_vector_free(st);
+    return 1;
+}
+
 /* Step 4 (identify.h): the contact law, among the static fit's, that replays the log's impacts
  * best, with its damping ratio. Leaves res as it is when there are too few impacts or a
  * parameter the replay needs was not identified. */
@@ -1219,28 +1374,54 @@ static int refine_contact(const id_data_t *d, const id_sig_t *sg, const id_laws_
             }
         }
     }
-    free(k0);
     if (bj < 0) {
+        free(k0);
         return TV_OK;
     }
     if (bj < ID_EXP_GRID) {
+        /* the grid's law, then refined jointly: exponent, stiffness, damping ratio and onsets
+         * between the grid's points (the grid ties each exponent to its static fit's k and
+         * onsets; an impact's depth weighs them differently, measured on the identify benchmark) */
         const double e = 1.0 + (double)bj / (double)(ID_EXP_GRID - 1);
-        const double kg = sqrt(laws->k[bj][0] * laws->k[bj][1]);
+        id_refine_t rf;
+        double c0 = HUGE_VAL;
+        double c1 = HUGE_VAL;
+        p.stop_exponent = (tv_real_t)e;
+        p.k_stop_Nm_rad = (tv_real_t)sqrt(laws->k[bj][0] * laws->k[bj][1]);
+        p.phi_closed_rad = (tv_real_t)laws->a0[bj][0];
+        p.phi_open_rad = (tv_real_t)laws->a0[bj][1];
+        p.d_stop_Nm_s_rad = (tv_real_t)(bdamp * (double)p.k_stop_Nm_rad);
+        rf.d = d;
+        rf.sg = sg;
+        rf.laws = laws;
+        rf.k0 = k0;
+        rf.nimp = nimp;
+        rf.p = p;
+        rf.a0[0] = laws->a0[bj][0];
+        rf.a0[1] = laws->a0[bj][1];
+        rf.ksec[0] = 1.01 * (double)slc.k_min; /* as the grid: a law at a bound is not determined */
+        rf.ksec[1] = 0.99 * (double)slc.k_max;
+        if (refine_simplex(&rf, &p, e, bdamp, &c0, &c1)) {
+            bdamp = (double)(p.d_stop_Nm_s_rad / p.k_stop_Nm_rad);
+            best = impact_sse(d, sg, &p, k0, nimp);
+        }
         if (progress != NULL) {
             fprintf(progress,
-                    "identify: contact law by %lu impacts: exponent %.2f -> %.2f, k %.4g -> %.4g N m/rad^e, damping %.3g s/rad, "
-                    "onsets moved %+.2f / %+.2f mrad\n",
-                    (unsigned long)nimp, res->value[ID_P_STOP_EXP], e, res->value[ID_P_K_STOP], kg, bdamp,
-                    1e3 * (laws->a0[bj][0] - res->value[ID_P_PHI_CLOSED]), 1e3 * (laws->a0[bj][1] - res->value[ID_P_PHI_OPEN]));
+                    "identify: contact law by %lu impacts: exponent %.2f -> %.2f (grid %.2f), k %.4g -> %.4g N m/rad^e, damping "
+                    "%.3g s/rad, onsets moved %+.2f / %+.2f mrad; joint refinement: mean squared error %.3g -> %.3g rad^2\n",
+                    (unsigned long)nimp, res->value[ID_P_STOP_EXP], (double)p.stop_exponent, e, res->value[ID_P_K_STOP],
+                    (double)p.k_stop_Nm_rad, bdamp, 1e3 * ((double)p.phi_closed_rad - res->value[ID_P_PHI_CLOSED]),
+                    1e3 * ((double)p.phi_open_rad - res->value[ID_P_PHI_OPEN]), c0, c1);
         }
-        res->value[ID_P_STOP_EXP] = e;
-        res->value[ID_P_K_STOP] = kg;
-        res->value[ID_P_PHI_CLOSED] = laws->a0[bj][0];
-        res->value[ID_P_PHI_OPEN] = laws->a0[bj][1];
+        res->value[ID_P_STOP_EXP] = (double)p.stop_exponent;
+        res->value[ID_P_K_STOP] = (double)p.k_stop_Nm_rad;
+        res->value[ID_P_PHI_CLOSED] = (double)p.phi_closed_rad;
+        res->value[ID_P_PHI_OPEN] = (double)p.phi_open_rad;
     } else if (progress != NULL) {
         fprintf(progress, "identify: contact law by %lu impacts: every law the rest angles allow is at the stiffness bound; "
                           "the static one kept, damping %.3g s/rad\n", (unsigned long)nimp, bdamp);
     }
+    free(k0);
     mark(res, ID_P_STOP_DAMP, bdamp, NAN, 1, "");
     res->rms_impact_rad = sqrt(best / (double)(nimp * ID_IMP_LEN));
     return TV_OK;
