@@ -1124,6 +1124,92 @@ static void test_friction_plus_25_percent_identified(void)
     TV_CHECK_EQ_INT(confirmed, 0);
 }
 
+/* The motor-constant signature on scripted inputs (diag_detect.h, identified units only): the
+ * resistance check reads (R + dR) / R = 0.9 (a current gain of 1.11, or shorted turns), one
+ * in-service window is then judged (its back-EMF slope kw), and the adapted friction and preload
+ * both read 1.1: with kw = 0 (the back-EMF intact: a gain error) P1A04 fails every check and
+ * confirms at the 6th (its confirm count; 60 calls of diag_param_check()), P2119 never pending
+ * although the signature's friction would fail it; with kw = 0.02 A s/rad (the back-EMF constant
+ * down: shorted turns) P1A01 fails instead. Nothing without the identified bounds, with the
+ * resistance in range, with only one of friction and preload up, or before a window was judged. */
+static void sig_case(int identified, tv_real_t ratio, tv_real_t kw, tv_real_t f, tv_real_t m, int windows, diag_t *d)
+{
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int k;
+    diag_detect_config_default(&cfg);
+    if (identified) {
+        diag_detect_config_identified(&cfg);
+    }
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_init(d);
+    memset(&snap, 0, sizeof snap);
+    diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), &snap);
+    for (k = 0; k < windows * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE; ++k) {
+        const tv_real_t i = isens_i(k);
+        const tv_real_t w = isens_w(k);
+        const tv_real_t y = kw * w;
+        diag_current_sensor_check(&dd, d, 1, 1, 1, i + y, y, w, &snap);
+    }
+    for (k = 1; k <= 6 * (int)DIAG_PARAM_DECIM; ++k) {
+        snap.t_us = (uint64_t)k * 1000u;
+        diag_param_check(&dd, d, 1, TV_R(1.0), f, TV_R(0.02), m, TV_R(0.01), &snap);
+        TV_CHECK(!diag_pending(d, DIAG_DTC_P2119));
+    }
+}
+
+static void test_motor_constant_signature(void)
+{
+    static diag_t d;
+    sig_case(1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 1, &d);
+    TV_CHECK(diag_confirmed(&d, DIAG_DTC_P1A04));
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.9, 1e-6);
+    TV_CHECK_EQ_INT(d.code[DIAG_DTC_P1A04].freeze.t_us, (uint64_t)(6u * DIAG_PARAM_DECIM) * 1000u);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A01));
+    sig_case(1, TV_R(0.9), TV_R(0.02), TV_R(1.1), TV_R(1.1), 1, &d);
+    TV_CHECK(diag_pending(&d, DIAG_DTC_P1A01));
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_confirmed(&d, DIAG_DTC_P1A04));
+    /* no verdict: the class's bounds; the resistance in range; one level up only; no window */
+    sig_case(0, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 1, &d);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
+    sig_case(1, TV_R(0.99), TV_R(0.0), TV_R(1.1), TV_R(1.1), 1, &d);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
+    sig_case(1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.0), 1, &d);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
+    sig_case(1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 0, &d);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
+}
+
+/* A current-sensor gain on an identified unit (the nominal plant with the default filter, as in
+ * test_friction_plus_25_percent_identified, diag_detect_config_identified()), from 1.0 s in
+ * closed-loop driving: +5 % and +20 % confirm P1A04 (the motor-constant signature; before it,
+ * 20 % confirmed P2119, friction, on every identified population unit: README), never P2119;
+ * 35 % of the turns shorted confirms P1A01 and never P1A04. 12 s runs, seed 1. */
+static void test_current_gain_identified(void)
+{
+    static plant_config_t pc;
+    static app_config_t ac;
+    static const char *const gain[2] = {"current_gain:5@1.0", "current_gain:20@1.0"};
+    sim_result_t r;
+    int k;
+    double worst = 0.0;
+    plant_config_default(&pc);
+    app_config_default(&ac);
+    diag_detect_config_identified(&ac.diag);
+    for (k = 0; k < 2; ++k) {
+        sim_fault_run(&pc, &ac, SIM_SCN_DRIVE, 1u, gain[k], 12.0, &r);
+        worst = fmax(worst, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) ? r.dtc_confirm_t_s[DIAG_DTC_P1A04] - 1.0 : 1e9);
+        TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2119]));
+    }
+    sim_fault_run(&pc, &ac, SIM_SCN_DRIVE, 1u, "winding_short:0.35@1.0", 12.0, &r);
+    TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A01]));
+    TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]));
+    printf("  identified unit: current gain +5 %% / +20 %% P1A04 at most %.2f s after the onset; 35 %% shorted turns P1A01 "
+           "at %.2f s\n", worst, r.dtc_confirm_t_s[DIAG_DTC_P1A01] - 1.0);
+    TV_CHECK_LE(worst, 10.0);
+}
+
 /* No code confirmed on healthy units: 12 evaluation units per spread (every third of class b),
  * every benchmark scenario, seed 1, after stop learning (which must not confirm one either). */
 static void test_no_code_confirmed_on_healthy_units(void)
@@ -1184,6 +1270,8 @@ int main(void)
     TV_TEST_RUN(test_spring_probe);
     TV_TEST_RUN(test_spring_break_while_holding);
     TV_TEST_RUN(test_friction_plus_25_percent_identified);
+    TV_TEST_RUN(test_motor_constant_signature);
+    TV_TEST_RUN(test_current_gain_identified);
     TV_TEST_RUN(test_no_code_confirmed_on_healthy_units);
     return tv_test_summary();
 }

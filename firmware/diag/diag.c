@@ -40,6 +40,8 @@ static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
      DIAG_ACTION_SAFE},
     {"P2101", "winding_resistance_high", "throttle actuator motor circuit range/performance (winding resistance above its range)",
      200u, 1000u, DIAG_ACTION_NONE},
+    /* P1A01: the resistance check fails it per sample (200 ms); the motor-constant signature
+     * (identified units) at each 10 ms check (2 s) */
     {"P1A01", "winding_short", "winding resistance below its range (shorted turns suspected; project code)", 200u, 1000u,
      DIAG_ACTION_LIMITED},
     {"P2119", "friction_high", "throttle actuator control throttle body range/performance (friction level above its range)",
@@ -55,8 +57,9 @@ static const diag_dtc_info_t s_dtc[DIAG_DTC_COUNT] = {
      DIAG_ACTION_LIMITED},
     /* P1A04: each check is one window (DIAG_ISENS_ZERO_N samples at rest or DIAG_ISENS_WIN driven
      * samples, diag_detect.h): 6 failing windows confirm (192 ms at rest, 3,000 samples at small
-     * currents in service), 8 passing ones heal */
-    {"P1A04", "current_sensor_fault", "motor current sensor range/performance (offset; project code)", 6u, 8u,
+     * currents in service), 8 passing ones heal; the motor-constant signature (a gain error, on
+     * identified units) fails it at each 10 ms check: 60 ms */
+    {"P1A04", "current_sensor_fault", "motor current sensor range/performance (offset or gain; project code)", 6u, 8u,
      DIAG_ACTION_NONE},
 };
 

@@ -58,6 +58,10 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->probe_friction_frac = TV_R(0.65);
     cfg->probe_move_rad = TV_R(0.0015);
     cfg->param_slow_hold = 95u;
+    cfg->gain_r_max = TV_R(0.975);
+    cfg->gain_mech_min = TV_R(1.025);
+    cfg->gain_kw_max = TV_R(0.006);
+    cfg->gain_w_var_min = TV_R(0.09);
     cfg->identified = 0u;
 }
 
@@ -93,7 +97,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->torque_clip_Nm,   cfg->torque_w_min_rad_s, cfg->torque_move_min_rad, cfg->torque_accel_max_Nm,
                                  cfg->preload_fast_low, cfg->friction_fast_high, cfg->friction_fast_preload_min,
                                  cfg->friction_fast_level_min, cfg->preload_fast_friction_max,
-                                 cfg->probe_trigger, cfg->probe_min_weight, cfg->probe_friction_frac, cfg->probe_move_rad};
+                                 cfg->probe_trigger, cfg->probe_min_weight, cfg->probe_friction_frac, cfg->probe_move_rad,
+                                 cfg->gain_r_max, cfg->gain_mech_min, cfg->gain_kw_max, cfg->gain_w_var_min};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -109,7 +114,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) ||
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
         !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u ||
-        !(cfg->probe_friction_frac < TV_R(1.0))) {
+        !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0))) {
         return TV_ERR_CONFIG;
     }
     memset(dd, 0, sizeof *dd);
@@ -374,8 +379,22 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
         return;
     }
     ratio = r_est_ohm / r_nom_ohm;
+    dd->r_ratio = ratio;
+    if (!(dd->cfg.identified && ratio < dd->cfg.gain_r_max)) {
+        dd->r_low = 0u;
+        dd->kw_ok = 0u;
+    } else if (!dd->r_low) {
+        dd->r_low = 1u; /* a back-EMF slope is needed from a window judged from now on */
+        dd->kw_ok = 0u;
+    }
     (void)diag_report(d, DIAG_DTC_P2101, ratio > dd->cfg.r_high_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
-    (void)diag_report(d, DIAG_DTC_P1A01, ratio < dd->cfg.r_low_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
+    if (ratio < dd->cfg.r_low_frac) {
+        (void)diag_report(d, DIAG_DTC_P1A01, DIAG_FAIL, snap, ratio);
+    } else if (!dd->r_low) {
+        /* while the apparent resistance is below gain_r_max on an identified unit, the
+         * motor-constant signature (diag_param_check()) judges shorted turns: no pass here */
+        (void)diag_report(d, DIAG_DTC_P1A01, DIAG_PASS, snap, ratio);
+    }
 }
 
 void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
@@ -455,6 +474,15 @@ static int mechanics_inhibited(const diag_t *d)
     return 0;
 }
 
+/* 1 when an open winding or a jam (P2100, P2111, P2112) is pending or confirmed: the
+ * motor-constant signature is then not judged. */
+static int motor_or_jam(const diag_t *d)
+{
+    return d->code[DIAG_DTC_P2100].counter > 0u || d->code[DIAG_DTC_P2100].confirmed ||
+           d->code[DIAG_DTC_P2111].counter > 0u || d->code[DIAG_DTC_P2111].confirmed ||
+           d->code[DIAG_DTC_P2112].counter > 0u || d->code[DIAG_DTC_P2112].confirmed;
+}
+
 void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_s, tv_real_t friction_rel,
                       tv_real_t friction_sigma, tv_real_t preload_rel, tv_real_t preload_sigma, const diag_snapshot_t *snap)
 {
@@ -472,7 +500,19 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
     }
     dd->param_tick = 0u;
     if (!active || !TV_IS_FINITE(w_rad_s) || TV_FABS(w_rad_s) < dd->cfg.param_excite_rad_s ||
-        !TV_IS_FINITE(friction_rel) || !TV_IS_FINITE(preload_rel) || mechanics_inhibited(d)) {
+        !TV_IS_FINITE(friction_rel) || !TV_IS_FINITE(preload_rel)) {
+        return;
+    }
+    if (dd->r_low && dd->kw_ok && friction_rel > dd->cfg.gain_mech_min && preload_rel > dd->cfg.gain_mech_min &&
+        TV_IS_FINITE(friction_sigma) && friction_sigma <= dd->cfg.friction_sigma_max && TV_IS_FINITE(preload_sigma) &&
+        preload_sigma <= dd->cfg.preload_sigma_max && !motor_or_jam(d)) {
+        /* MOTOR-CONSTANT SIGNATURE: the apparent resistance down and friction and preload up
+         * together, i.e. the torque per measured ampere too small: a current-sensor gain (the
+         * back-EMF intact) or shorted turns (the back-EMF constant down with them) */
+        (void)diag_report(d, TV_FABS(dd->isens_kw) <= dd->cfg.gain_kw_max ? DIAG_DTC_P1A04 : DIAG_DTC_P1A01, DIAG_FAIL,
+                          snap, dd->r_ratio);
+    }
+    if (mechanics_inhibited(d)) {
         return;
     }
     fast = dd->tq_age <= DIAG_TORQUE_FRESH && TV_IS_FINITE(friction_sigma) &&
@@ -490,7 +530,10 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         if (slow) {
             dd->slow_f_run = friction_rel > dd->cfg.friction_high_rel ? (uint16_t)(dd->slow_f_run + (dd->slow_f_run < 0xFFFFu ? 1u : 0u)) : 0u;
         }
-        if (fast && ff > dd->cfg.friction_fast_high && pf >= dd->cfg.friction_fast_preload_min &&
+        if (dd->r_low) {
+            /* the apparent resistance is down: raised friction may be the motor-constant signature
+             * above, which decides first (no P2119 failure meanwhile) */
+        } else if (fast && ff > dd->cfg.friction_fast_high && pf >= dd->cfg.friction_fast_preload_min &&
             friction_rel >= dd->cfg.friction_fast_level_min) {
             (void)diag_report(d, DIAG_DTC_P2119, DIAG_FAIL, snap, ff);
         } else if (slow && dd->slow_f_run >= dd->cfg.param_slow_hold) {
@@ -527,7 +570,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
  * the centred sums (the slopes by the 2x2 normal equations, then b = mean(y) - ki mean(i) - kw
  * mean(w)); its variance is sigma^2 / n (1 + m' C^-1 m) with m the regressors' means and C their
  * covariance: above isens_vif_max the window is not judged. */
-static diag_result_t isens_window(const diag_detect_t *dd, tv_real_t *bias)
+static diag_result_t isens_window(diag_detect_t *dd, tv_real_t *bias)
 {
     const tv_real_t *s = dd->isens_s;
     const tv_real_t inv_n = TV_R(1.0) / (tv_real_t)dd->isens_n;
@@ -546,6 +589,15 @@ static diag_result_t isens_window(const diag_detect_t *dd, tv_real_t *bias)
     /* det > 0 with a margin against rounding: a (near-)constant regressor leaves it ~0 */
     if (!(det > TV_R(1e-6) * (cii * cww)) || !(cii > TV_R(0.0)) || !(cww > TV_R(0.0))) {
         return DIAG_NOT_RUN;
+    }
+    if (dd->r_low && cww >= dd->cfg.gain_w_var_min) {
+        /* the back-EMF slope, for the motor-constant signature (diag_param_check()): its spread is
+         * the velocity's, not the intercept's variance inflation */
+        const tv_real_t kws = (cii * cwy - ciw * ciy) / det;
+        if (TV_IS_FINITE(kws)) {
+            dd->isens_kw = kws;
+            dd->kw_ok = 1u;
+        }
     }
     vif = TV_R(1.0) + (cww * mi * mi - TV_R(2.0) * ciw * mi * mw + cii * mw * mw) / det;
     if (!(vif <= dd->cfg.isens_vif_max)) {

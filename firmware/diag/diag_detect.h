@@ -129,8 +129,23 @@
  *       1 + m' C^-1 m above isens_vif_max, m the regressors' means and C their covariance: one
  *       current sign, one speed) is not judged. A sample that does not qualify (bridge off, not
  *       settled, no correction, implausible) restarts the window.
- *     A current-gain error is not detected: it is a scaled R in the voltage equation and a scaled
- *     Kt in the mechanics, both inside the population's spread (README).
+ *     A current-gain error is a scaled R in the voltage equation and a scaled Kt in the mechanics,
+ *     both inside the population's spread: it is judged on identified units only, by the
+ *     MOTOR-CONSTANT SIGNATURE below.
+ *   MOTOR-CONSTANT SIGNATURE (P1A04 or P1A01; identified units, diag_detect_config_identified()):
+ *     a gain g of the current sensor makes the apparent resistance (R + dR) / R read 1 / g and the
+ *     torque per measured ampere 1 / g too small, so the adapted friction 1 + f and preload 1 + m
+ *     both read about g; shorted turns do the same to R and Kt but also lower the back-EMF
+ *     constant, which leaves a current innovation proportional to the velocity (the in-service
+ *     window's slope kw; measured on identified unit 1000 in closed-loop driving: healthy and gain
+ *     errors |kw| < 0.001 A s/rad, 20 % of the turns shorted 0.019, 35 % 0.041). While
+ *     (R + dR) / R < gain_r_max (diag_resistance_check()), a window judged since then supplies kw
+ *     (when its velocity varied: gain_w_var_min) and diag_param_check() fails, at each of its
+ *     checks with 1 + f and 1 + m both above gain_mech_min (their sigmas within the mechanics
+ *     checks' bounds, no open winding or jam code), P1A04 when |kw| <= gain_kw_max, else P1A01
+ *     (value: (R + dR) / R). Meanwhile P2119 does not fail (raised friction with a low apparent
+ *     resistance is this signature's to judge) and the resistance check does not pass P1A01. A
+ *     cold winding lowers R alone, ice raises friction alone: neither moves all three.
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -270,6 +285,19 @@ typedef struct {
     uint16_t param_slow_hold;     /**< the adapted levels (1 + f, 1 + m) fail only once beyond their bounds for
                                        this many checks in a row [checks], > 0; default 95 (with the codes'
                                        confirmation counts about the former 100 checks = 1 s of motion) */
+    tv_real_t gain_r_max;         /**< MOTOR-CONSTANT SIGNATURE (identified units only): the apparent
+                                       resistance (R + dR) / R below this opens it [-], (0, 1); default 0.975
+                                       (healthy identified units read 0.99-1.01; a current gain g reads 1 / g) */
+    tv_real_t gain_mech_min;      /**< ... and it fails once the adapted friction 1 + f and preload 1 + m
+                                       are both above this [-], > 1; default 1.025 (healthy identified units
+                                       read at most 1.005; a torque per measured ampere too small by 1 / g
+                                       raises both by g) */
+    tv_real_t gain_kw_max;        /**< ... as a current-sensor gain (P1A04) while the in-service window's
+                                       back-EMF slope |kw| is at most this, as shorted turns (P1A01) above
+                                       it [A s/rad], > 0; default 0.006 (healthy and a gain error: below
+                                       0.001; 20 % of the turns shorted: about 0.02, README) */
+    tv_real_t gain_w_var_min;     /**< a window's kw counts when its velocity variance is at least this
+                                       [(rad/s)^2], > 0; default 0.09 (a 0.3 rad/s spread) */
     uint8_t identified;           /**< 1: the bounds of diag_detect_config_identified() are in force (the
                                        filter's model is the unit's own); 0: the class's (default) */
 } diag_detect_config_t;
@@ -316,6 +344,11 @@ typedef struct {
     tv_real_t probe_T;     /**< the probe's torque [N m] */
     tv_real_t probe_pre_ref;  /**< the estimator's 1 + m while nothing was suspected [-] */
     tv_real_t probe_fric_ref; /**< the estimator's 1 + f while nothing was suspected [-] */
+    tv_real_t r_ratio;     /**< the last (R + dR) / R of diag_resistance_check() [-] (0: none yet) */
+    tv_real_t isens_kw;    /**< the back-EMF slope kw of the last in-service window judged while the
+                                apparent resistance was below gain_r_max [A s/rad] */
+    uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units) */
+    uint8_t kw_ok;         /**< 1 once a window's kw was taken since r_low was set */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
     uint8_t probe_n;       /**< probes that moved the plate since the suspicion was raised */
 } diag_detect_t;
