@@ -1216,9 +1216,6 @@ static int refine_simplex(id_refine_t *r, tvm_params_t *p, double e, double damp
     gsl_vector *x = gsl_vector_alloc(5u);
     gsl_vector *st = gsl_vector_alloc(5u);
     gsl_multimin_function fn;
-    double th[5];
-    double pen = 0.0;
-    size_t j;
     int it;
     if (mz == NULL || x == NULL || st == NULL) {
         gsl_multimin_fminimizer_free(mz);
@@ -1250,6 +1247,9 @@ static int refine_simplex(id_refine_t *r, tvm_params_t *p, double e, double damp
     *cost1 = gsl_multimin_fminimizer_minimum(mz);
     if (*cost1 < *cost0) {
         const gsl_vector *xm = gsl_multimin_fminimizer_x(mz);
+        double th[5];
+        double pen = 0.0;
+        size_t j;
         for (j = 0; j < 5u; ++j) {
             th[j] = gsl_vector_get(xm, j);
         }
