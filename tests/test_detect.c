@@ -1131,7 +1131,8 @@ static void test_friction_plus_25_percent_identified(void)
  * confirms at the 6th (its confirm count; 60 calls of diag_param_check()), P2119 never pending
  * although the signature's friction would fail it; with kw = 0.02 A s/rad (the back-EMF constant
  * down: shorted turns) P1A01 fails instead. Nothing without the identified bounds, with the
- * resistance in range, with only one of friction and preload up, or before a window was judged. */
+ * resistance in range, with only one of friction and preload up, or before a window was judged;
+ * friction up alone with the resistance low fails P2119 after gain_hold_checks checks. */
 static void sig_case(int identified, tv_real_t ratio, tv_real_t kw, tv_real_t f, tv_real_t m, int windows, diag_t *d)
 {
     static diag_detect_t dd;
@@ -1179,6 +1180,30 @@ static void test_motor_constant_signature(void)
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
     sig_case(1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 0, &d);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
+    {
+        /* friction up alone (1 + f = 1.3 above the identified bound 1.15, the preload at 1) with
+         * the apparent resistance low (a cold winding): P2119 is held for gain_hold_checks
+         * checks, then fails as before (the slow level's run of 95 checks is long past) */
+        static diag_detect_t dd;
+        diag_detect_config_t cfg;
+        diag_snapshot_t snap;
+        int k;
+        int first = -1;
+        diag_detect_config_default(&cfg);
+        diag_detect_config_identified(&cfg);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        diag_init(&d);
+        memset(&snap, 0, sizeof snap);
+        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), &snap);
+        for (k = 1; k <= 400 * (int)DIAG_PARAM_DECIM && first < 0; ++k) {
+            diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.3), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
+            if (diag_pending(&d, DIAG_DTC_P2119)) {
+                first = k / (int)DIAG_PARAM_DECIM;
+            }
+        }
+        TV_CHECK_EQ_INT(first, (int)cfg.gain_hold_checks + 1);
+        TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
+    }
 }
 
 /* A current-sensor gain on an identified unit (the nominal plant with the default filter, as in

@@ -62,6 +62,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->gain_mech_min = TV_R(1.025);
     cfg->gain_kw_max = TV_R(0.006);
     cfg->gain_w_var_min = TV_R(0.09);
+    cfg->gain_hold_checks = 300u;
     cfg->identified = 0u;
 }
 
@@ -114,7 +115,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) ||
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
         !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u ||
-        !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0))) {
+        !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0)) ||
+        cfg->gain_hold_checks == 0u) {
         return TV_ERR_CONFIG;
     }
     memset(dd, 0, sizeof *dd);
@@ -383,9 +385,11 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
     if (!(dd->cfg.identified && ratio < dd->cfg.gain_r_max)) {
         dd->r_low = 0u;
         dd->kw_ok = 0u;
+        dd->gain_wait = 0u;
     } else if (!dd->r_low) {
         dd->r_low = 1u; /* a back-EMF slope is needed from a window judged from now on */
         dd->kw_ok = 0u;
+        dd->gain_wait = 0u;
     }
     (void)diag_report(d, DIAG_DTC_P2101, ratio > dd->cfg.r_high_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
     if (ratio < dd->cfg.r_low_frac) {
@@ -530,9 +534,14 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         if (slow) {
             dd->slow_f_run = friction_rel > dd->cfg.friction_high_rel ? (uint16_t)(dd->slow_f_run + (dd->slow_f_run < 0xFFFFu ? 1u : 0u)) : 0u;
         }
-        if (dd->r_low) {
-            /* the apparent resistance is down: raised friction may be the motor-constant signature
-             * above, which decides first (no P2119 failure meanwhile) */
+        if (dd->r_low && dd->gain_wait < 0xFFFFu) {
+            ++dd->gain_wait;
+        }
+        if (dd->r_low && (preload_rel > dd->cfg.gain_mech_min || dd->gain_wait <= dd->cfg.gain_hold_checks)) {
+            /* the apparent resistance is down: raised friction may be the motor-constant
+             * signature above, which decides first (no P2119 failure meanwhile) while the preload
+             * is up too, or for gain_hold_checks checks; friction up alone after that (ice on a
+             * cold winding) fails P2119 as before */
         } else if (fast && ff > dd->cfg.friction_fast_high && pf >= dd->cfg.friction_fast_preload_min &&
             friction_rel >= dd->cfg.friction_fast_level_min) {
             (void)diag_report(d, DIAG_DTC_P2119, DIAG_FAIL, snap, ff);

@@ -143,8 +143,9 @@
  *     (when its velocity varied: gain_w_var_min) and diag_param_check() fails, at each of its
  *     checks with 1 + f and 1 + m both above gain_mech_min (their sigmas within the mechanics
  *     checks' bounds, no open winding or jam code), P1A04 when |kw| <= gain_kw_max, else P1A01
- *     (value: (R + dR) / R). Meanwhile P2119 does not fail (raised friction with a low apparent
- *     resistance is this signature's to judge) and the resistance check does not pass P1A01. A
+ *     (value: (R + dR) / R). Meanwhile the resistance check does not pass P1A01, and P2119 does
+ *     not fail while the preload is up too or for gain_hold_checks checks (a gain error raises
+ *     the friction before the preload); after that, friction up alone fails P2119 as before. A
  *     cold winding lowers R alone, ice raises friction alone: neither moves all three.
  *
  * Pure C99, no heap, no globals; fixed cost per call.
@@ -298,6 +299,11 @@ typedef struct {
                                        0.001; 20 % of the turns shorted: about 0.02, README) */
     tv_real_t gain_w_var_min;     /**< a window's kw counts when its velocity variance is at least this
                                        [(rad/s)^2], > 0; default 0.09 (a 0.3 rad/s spread) */
+    uint16_t gain_hold_checks;    /**< while the apparent resistance is below gain_r_max, P2119 does not
+                                       fail while the preload is above gain_mech_min, nor for this many
+                                       mechanics checks [checks], > 0; default 300 (3 s of motion: a gain
+                                       error raises the friction before the preload; friction alone on a
+                                       cold winding, whose R reads low, is then judged as before) */
     uint8_t identified;           /**< 1: the bounds of diag_detect_config_identified() are in force (the
                                        filter's model is the unit's own); 0: the class's (default) */
 } diag_detect_config_t;
@@ -349,6 +355,7 @@ typedef struct {
                                 apparent resistance was below gain_r_max [A s/rad] */
     uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units) */
     uint8_t kw_ok;         /**< 1 once a window's kw was taken since r_low was set */
+    uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
     uint8_t probe_n;       /**< probes that moved the plate since the suspicion was raised */
 } diag_detect_t;
