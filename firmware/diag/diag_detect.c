@@ -382,14 +382,15 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
     }
     ratio = r_est_ohm / r_nom_ohm;
     dd->r_ratio = ratio;
-    if (!(dd->cfg.identified && ratio < dd->cfg.gain_r_max)) {
-        dd->r_low = 0u;
-        dd->kw_ok = 0u;
-        dd->gain_wait = 0u;
-    } else if (!dd->r_low) {
-        dd->r_low = 1u; /* a back-EMF slope is needed from a window judged from now on */
-        dd->kw_ok = 0u;
-        dd->gain_wait = 0u;
+    {
+        const uint8_t low = dd->cfg.identified && ratio < dd->cfg.gain_r_max ? 1u : 0u;
+        if (!low || !dd->r_low) {
+            /* out of the signature, or just into it: a back-EMF slope is needed from a window
+             * judged from now on, and the hold of P2119 starts over */
+            dd->kw_ok = 0u;
+            dd->gain_wait = 0u;
+        }
+        dd->r_low = low;
     }
     (void)diag_report(d, DIAG_DTC_P2101, ratio > dd->cfg.r_high_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
     if (ratio < dd->cfg.r_low_frac) {
@@ -463,14 +464,12 @@ static int torque_signature(const diag_detect_t *dd, tv_real_t preload_rel, tv_r
     return TV_IS_FINITE(*preload) && TV_IS_FINITE(*friction);
 }
 
-/* 1 when a code whose fault also leaves torque unexplained (motor circuit: P2100, P2101, P1A01;
- * jam: P2111, P2112) is pending or confirmed: the mechanics are then not judged (isolation). */
-static int mechanics_inhibited(const diag_t *d)
+/* 1 when any of the n codes is pending or confirmed. */
+static int any_active(const diag_t *d, const diag_dtc_t *codes, size_t n)
 {
-    static const diag_dtc_t related[] = {DIAG_DTC_P2100, DIAG_DTC_P2101, DIAG_DTC_P1A01, DIAG_DTC_P2111, DIAG_DTC_P2112};
     size_t k;
-    for (k = 0; k < sizeof related / sizeof related[0]; ++k) {
-        const diag_code_state_t *c = &d->code[related[k]];
+    for (k = 0; k < n; ++k) {
+        const diag_code_state_t *c = &d->code[codes[k]];
         if (c->counter > 0u || c->confirmed) {
             return 1;
         }
@@ -478,13 +477,20 @@ static int mechanics_inhibited(const diag_t *d)
     return 0;
 }
 
+/* 1 when a code whose fault also leaves torque unexplained (motor circuit: P2100, P2101, P1A01;
+ * jam: P2111, P2112) is pending or confirmed: the mechanics are then not judged (isolation). */
+static int mechanics_inhibited(const diag_t *d)
+{
+    static const diag_dtc_t related[] = {DIAG_DTC_P2100, DIAG_DTC_P2101, DIAG_DTC_P1A01, DIAG_DTC_P2111, DIAG_DTC_P2112};
+    return any_active(d, related, sizeof related / sizeof related[0]);
+}
+
 /* 1 when an open winding or a jam (P2100, P2111, P2112) is pending or confirmed: the
  * motor-constant signature is then not judged. */
 static int motor_or_jam(const diag_t *d)
 {
-    return d->code[DIAG_DTC_P2100].counter > 0u || d->code[DIAG_DTC_P2100].confirmed ||
-           d->code[DIAG_DTC_P2111].counter > 0u || d->code[DIAG_DTC_P2111].confirmed ||
-           d->code[DIAG_DTC_P2112].counter > 0u || d->code[DIAG_DTC_P2112].confirmed;
+    static const diag_dtc_t related[] = {DIAG_DTC_P2100, DIAG_DTC_P2111, DIAG_DTC_P2112};
+    return any_active(d, related, sizeof related / sizeof related[0]);
 }
 
 void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_s, tv_real_t friction_rel,
@@ -599,21 +605,18 @@ static diag_result_t isens_window(diag_detect_t *dd, tv_real_t *bias)
     if (!(det > TV_R(1e-6) * (cii * cww)) || !(cii > TV_R(0.0)) || !(cww > TV_R(0.0))) {
         return DIAG_NOT_RUN;
     }
-    if (dd->r_low && cww >= dd->cfg.gain_w_var_min) {
+    kw = (cii * cwy - ciw * ciy) / det;
+    if (dd->r_low && cww >= dd->cfg.gain_w_var_min && TV_IS_FINITE(kw)) {
         /* the back-EMF slope, for the motor-constant signature (diag_param_check()): its spread is
          * the velocity's, not the intercept's variance inflation */
-        const tv_real_t kws = (cii * cwy - ciw * ciy) / det;
-        if (TV_IS_FINITE(kws)) {
-            dd->isens_kw = kws;
-            dd->kw_ok = 1u;
-        }
+        dd->isens_kw = kw;
+        dd->kw_ok = 1u;
     }
     vif = TV_R(1.0) + (cww * mi * mi - TV_R(2.0) * ciw * mi * mw + cii * mw * mw) / det;
     if (!(vif <= dd->cfg.isens_vif_max)) {
         return DIAG_NOT_RUN;
     }
     ki = (cww * ciy - ciw * cwy) / det;
-    kw = (cii * cwy - ciw * ciy) / det;
     *bias = my - ki * mi - kw * mw;
     if (!TV_IS_FINITE(*bias)) {
         return DIAG_NOT_RUN;
