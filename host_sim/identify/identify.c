@@ -1263,6 +1263,16 @@ static int refine_simplex(id_refine_t *r, tvm_params_t *p, double e, double damp
     return 1;
 }
 
+/* The static fit's law of grid exponent j into p: exponent, k (the geometric mean of the two
+ * stops', as the model has one) and onsets. */
+static void grid_law(const id_laws_t *laws, int j, tvm_params_t *p)
+{
+    p->stop_exponent = (tv_real_t)(1.0 + (double)j / (double)(ID_EXP_GRID - 1));
+    p->k_stop_Nm_rad = (tv_real_t)sqrt(laws->k[j][0] * laws->k[j][1]);
+    p->phi_closed_rad = (tv_real_t)laws->a0[j][0];
+    p->phi_open_rad = (tv_real_t)laws->a0[j][1];
+}
+
 /* Step 4 (identify.h): the contact law, among the static fit's, that replays the log's impacts
  * best, with its damping ratio. Leaves res as it is when there are too few impacts or a
  * parameter the replay needs was not identified. */
@@ -1350,10 +1360,7 @@ static int refine_contact(const id_data_t *d, const id_sig_t *sg, const id_laws_
                 !(laws->k[j][0] < kmax && laws->k[j][1] < kmax && laws->k[j][0] > kmin && laws->k[j][1] > kmin)) {
                 continue; /* no law, or one at a stiffness bound: not what the rest angles determined */
             }
-            p.stop_exponent = (tv_real_t)e;
-            p.k_stop_Nm_rad = (tv_real_t)sqrt(laws->k[j][0] * laws->k[j][1]); /* as the static fit's result */
-            p.phi_closed_rad = (tv_real_t)laws->a0[j][0];
-            p.phi_open_rad = (tv_real_t)laws->a0[j][1];
+            grid_law(laws, j, &p);
         } else if (bj < 0) {
             p.stop_exponent = (tv_real_t)res->value[ID_P_STOP_EXP];
             p.k_stop_Nm_rad = (tv_real_t)res->value[ID_P_K_STOP];
@@ -1386,10 +1393,7 @@ static int refine_contact(const id_data_t *d, const id_sig_t *sg, const id_laws_
         id_refine_t rf;
         double c0 = HUGE_VAL;
         double c1 = HUGE_VAL;
-        p.stop_exponent = (tv_real_t)e;
-        p.k_stop_Nm_rad = (tv_real_t)sqrt(laws->k[bj][0] * laws->k[bj][1]);
-        p.phi_closed_rad = (tv_real_t)laws->a0[bj][0];
-        p.phi_open_rad = (tv_real_t)laws->a0[bj][1];
+        grid_law(laws, bj, &p);
         p.d_stop_Nm_s_rad = (tv_real_t)(bdamp * (double)p.k_stop_Nm_rad);
         rf.d = d;
         rf.sg = sg;
