@@ -274,8 +274,11 @@ static void write_dtc_codes(FILE *csv, const sim_result_t *r)
 
 static params_t s_params;
 
-/* DIR/<section>_<unit>.params: the unit's filter configuration as a parameter file; 0 on success. */
-static int write_unit_params(const char *dir, const char *section, uint64_t unit, const app_config_t *ac)
+/* DIR/<section>_<unit>.params: the unit's filter configuration as a parameter file, headed by
+ * the host_sim command that reruns one of the unit's runs (its class and spread included:
+ * host_sim --unit alone draws a class-a unit); 0 on success. */
+static int write_unit_params(const char *dir, const char *section, uint64_t unit, plant_class_t cls,
+                             plant_spread_t spread, const app_config_t *ac)
 {
     char path[CLI_PATH_MAX];
     FILE *f;
@@ -290,7 +293,14 @@ static int write_unit_params(const char *dir, const char *section, uint64_t unit
         fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, path, strerror(errno));
         return -1;
     }
-    rc = params_write(f, ac, &s_params);
+    rc = fprintf(f,
+                 "# population --params-out: section %s, unit %llu (class %s). Rerun one of its runs with the\n"
+                 "# CSV trace (the adapted section's 5 s of excitation before its scoring is not part of it):\n"
+                 "#   host_sim --unit %llu --plant-class %s --spread %s --params %s --scenario NAME --seed N\n\n",
+                 section, (unsigned long long)unit, plant_class_name(cls), (unsigned long long)unit,
+                 plant_class_name(cls), spread == PLANT_SPREAD_STOPS ? "stops" : "all", path) < 0
+             ? TV_ERR_IO
+             : params_write(f, ac, &s_params);
     if (fclose(f) != 0 || rc != TV_OK) {
         fprintf(stderr, "%s: write error on %s\n", s_prog, path);
         return -1;
@@ -339,8 +349,10 @@ static void usage(FILE *f)
             "  --json PATH       summary (default out/population/summary.json)\n"
             "  --runs-csv PATH   also one line per run\n"
             "  --params-out DIR  also write each unit's filter parameter file (after stop learning)\n"
-            "                    as DIR/<section>_<ID>.params: host_sim --unit ID --spread S\n"
-            "                    --params FILE then reruns one of its runs with the CSV trace\n"
+            "                    as DIR/<section>_<ID>.params (section stops, all, adapted,\n"
+            "                    identified), headed by the host_sim command that reruns one of\n"
+            "                    its runs with the CSV trace (--unit ID --plant-class C --spread S\n"
+            "                    --params FILE: unit IDs with ID %% 3 == 2 are of class b)\n"
             "  --fault SPEC      inject a fault into every scored run (repeatable; the syntax and kinds\n"
             "                    of host_sim --fault, host_sim/plant/plant_fault.h); the stop learning\n"
             "                    and the nominal unit's reference run stay healthy\n"
@@ -683,7 +695,7 @@ int main(int argc, char **argv)
                 fprintf(stderr, "%s: unit %llu: %s\n", s_prog, (unsigned long long)unit, tv_status_str(rc));
                 return 1;
             }
-            if (params_out != NULL && write_unit_params(params_out, s_sec_short[sec], unit, &ac) != 0) {
+            if (params_out != NULL && write_unit_params(params_out, s_sec_short[sec], unit, cls, spread, &ac) != 0) {
                 return 1;
             }
             for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
