@@ -83,6 +83,8 @@ def true_params(plant):
     keys["model.stop_exponent"] = e
     keys["model.k_stop_Nm_rad"] = k
     keys["model.d_stop_Nm_s_rad"] = plant["plant.stop_lambda_Nm_s_rad"] / plant["plant.stop_k_Nm_rad"] * k
+    # the same estimator as identify's file configures: the law known, no online impact learning
+    keys["impact_learn.enable"] = 0
     return "".join("%s = %.17g\n" % kv for kv in keys.items())
 
 

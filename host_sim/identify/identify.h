@@ -125,6 +125,7 @@ typedef struct {
     double rms_impact_rad;         /**< their RMS angle error with the chosen law [rad] (NaN: none) */
     double travel_lo_rad, travel_hi_rad; /**< smallest and largest smoothed angle of the log [rad] */
     int moved;                     /**< 1: the plate moved (enough free-motion samples for the plate fit) */
+    int ms_is_mc;                  /**< 1: no Stribeck drop seen: Ms identified as Mc, the plate refitted without it */
 } id_result_t;
 
 /** Name of a parameter as printed ("R", "L", "nKe", ...). */

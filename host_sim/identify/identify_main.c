@@ -138,7 +138,7 @@ static void print_result(FILE *f, const id_result_t *r)
         const double rel = 100.0 * r->sigma[p] / fabs(r->value[p]);
         fprintf(f, "%-16s %14.6g %12.3g %9.2f  [%s] %s%s\n", id_param_name((id_param_t)p), r->value[p], r->sigma[p],
                 rel, id_param_unit((id_param_t)p), r->identified[p] ? "identified" : "NOT IDENTIFIED: ",
-                r->identified[p] ? "" : r->why[p]);
+                r->identified[p] ? (p == (int)ID_P_MS && r->ms_is_mc ? " (no Stribeck drop seen: Ms = Mc)" : "") : r->why[p]);
     }
     fprintf(f, "fit quality: armature R^2 %.6f, RMS residual %.4g A (%lu samples); plate R^2 %.4f, RMS residual %.4g N m "
                "(%lu samples of free motion); stops RMS residual %.3g rad (%lu + %lu rest blocks); impacts RMS angle "
