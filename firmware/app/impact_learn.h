@@ -31,7 +31,10 @@
  *      good: the plate flew freely);
  *   2. contact: the samples whose measured angle lies beyond the onset (none for a stiff stop:
  *      it rebounds within a sample) are counted, their deepest penetration p_max kept, and the
- *      net torque the model puts into the stop (motor, springs) averaged (P);
+ *      net torque the model puts into the stop (motor, springs) averaged over the samples
+ *      whose estimate still moves into it (P: the compression's; over the whole impact the
+ *      back-EMF's braking on the way in and its push on the way out cancelled, and the stiffness
+ *      came out too high: +20 % on units whose true law it was given, measured);
  *   3. the impact is over when the estimate moves away from the stop and the measured angle is
  *      outside the onset (a contact seen, or a reversal within the first sample: no drive does
  *      that), and abandoned when the plate stays near the stop for contact_max samples (it
@@ -104,8 +107,8 @@ typedef struct {
     uint16_t n_contact;      /**< samples with the measured angle beyond the onset */
     tv_real_t v_in;          /**< impact speed [rad/s] */
     tv_real_t p_max;         /**< deepest measured penetration [rad] */
-    tv_real_t push_sum;      /**< sum of the net torque into the stop over the impact [N m] */
-    tv_real_t push_n;        /**< samples in push_sum */
+    tv_real_t push_sum;      /**< sum of the net torque into the stop over the impact's compression [N m] */
+    tv_real_t push_n;        /**< samples in push_sum (those with the estimate still moving into the stop) */
     tv_real_t dw_sum;        /**< sum of the estimator's velocity corrections away from the stop [rad/s] */
     /* results */
     tv_real_t alpha;         /**< learned damping ratio d / k [s/rad] (valid when n_learned > 0) */
