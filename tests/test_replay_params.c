@@ -65,7 +65,7 @@ static int write_config(const app_config_t *c, char *buf, size_t cap)
     if (f == NULL) {
         return -1;
     }
-    rc = params_write(f, c, NULL);
+    rc = params_write(f, c);
     rewind(f);
     n = fread(buf, 1u, cap - 1u, f);
     buf[n] = '\0';
@@ -119,6 +119,36 @@ static void test_values_comments_and_q_recomputation(void)
     TV_CHECK_EQ_INT(params_set(&s_p, "ekf.r_angle_rad2", -1.0, s_err, sizeof s_err), TV_ERR_RANGE);
     TV_CHECK(has("command line: ekf.r_angle_rad2 = -1 is out of range"));
     TV_CHECK_EQ_INT(params_set(&s_p, "nope", 1.0, s_err, sizeof s_err), TV_ERR_FORMAT);
+}
+
+/* A model-only file applied on top of one that set the densities (population --params, then
+ * identify's file of the unit) rebuilds Q from those densities, not from the defaults, and
+ * params_write() writes the densities in force: before, the first file's qu and qT were lost
+ * without a word, and the written file named them while the filter ran the defaults. */
+static void test_densities_survive_a_later_model_file(void)
+{
+    app_config_t c;
+    tv_real_t Q[TVM_NX][TVM_NX];
+    char buf[16384];
+    app_config_default(&c);
+    TV_CHECK_EQ_INT(parse("ekf.qu_V2_s = 1e-6\nekf.qT_Nm2_s = 2e-6\n"), TV_OK);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    TV_CHECK_EQ_INT(parse("model.R_ohm = 5\nmodel.J_kg_m2 = 0.002\n"), TV_OK);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    TV_CHECK(c.model.R_ohm == (tv_real_t)5.0 && c.model.J_kg_m2 == (tv_real_t)0.002);
+    TV_CHECK_EQ_INT(ekf_q_from_spectral(&c.model, (tv_real_t)1e-6, (tv_real_t)2e-6, Q), TV_OK);
+    TV_CHECK(memcmp(Q, c.ekf.Q, sizeof Q) == 0);
+    TV_CHECK(c.ekf.qu_V2_s == (tv_real_t)1e-6 && c.ekf.qT_Nm2_s == (tv_real_t)2e-6);
+    /* the written file reads back to the same densities and Q */
+    TV_CHECK_EQ_INT(write_config(&c, buf, sizeof buf), 0);
+    TV_CHECK_EQ_INT(parse(buf), TV_OK);
+    {
+        app_config_t back;
+        app_config_default(&back);
+        TV_CHECK_EQ_INT(params_apply(&s_p, &back, s_err, sizeof s_err), TV_OK);
+        TV_CHECK(back.ekf.qu_V2_s == c.ekf.qu_V2_s && back.ekf.qT_Nm2_s == c.ekf.qT_Nm2_s);
+        TV_CHECK(memcmp(back.ekf.Q, c.ekf.Q, sizeof Q) == 0);
+    }
 }
 
 /* diag.identified = 1 (what identify writes) puts the bounds of diag_detect_config_identified() in
@@ -278,6 +308,7 @@ int main(void)
 {
     TV_TEST_RUN(test_written_defaults_read_back_to_the_same_configuration);
     TV_TEST_RUN(test_values_comments_and_q_recomputation);
+    TV_TEST_RUN(test_densities_survive_a_later_model_file);
     TV_TEST_RUN(test_diag_identified_selects_the_unit_model_bounds);
     TV_TEST_RUN(test_stop_learn_keys);
     TV_TEST_RUN(test_unknown_key_is_an_error_naming_file_line_and_key);

@@ -134,7 +134,9 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->P0[1][1] = TV_R(100.0);
     cfg->P0[2][2] = TV_R(0.01);
     tvm_params_default(&p);
-    (void)ekf_q_from_spectral(&p, EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S, cfg->Q);
+    cfg->qu_V2_s = EKF_DEFAULT_QU_V2_S;
+    cfg->qT_Nm2_s = EKF_DEFAULT_QT_NM2_S;
+    (void)ekf_q_from_spectral(&p, cfg->qu_V2_s, cfg->qT_Nm2_s, cfg->Q);
     cfg->r[EKF_CH_CURRENT] = TV_R(1.054e-4);
     cfg->r[EKF_CH_VELOCITY] = TV_R(1.0);
     cfg->r[EKF_CH_ANGLE] = TV_R(2.668e-8);

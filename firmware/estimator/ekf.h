@@ -129,6 +129,16 @@ typedef struct {
     tv_real_t x0[TVM_NX];               /**< initial state (A, rad/s, rad) */
     tv_real_t P0[TVM_NX][TVM_NX];       /**< initial covariance (variances, A^2, (rad/s)^2, rad^2), symmetric PD */
     tv_real_t Q[TVM_NX][TVM_NX];        /**< process noise covariance per Ts, symmetric PSD */
+    /**
+     * The densities Q was built from by ekf_q_from_spectral(): voltage [V^2 s] and torque
+     * [N^2 m^2 s], >= 0 (ekf_config_default(): EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S; also in
+     * ekf_config_paper(), whose own Q = 0.01 I is not of that form). Not used by the filter: they
+     * are kept so that a configuration whose model changes afterwards (a parameter file applied
+     * on top of another, the Linux configuration) rebuilds Q from the densities in force, not
+     * from the defaults.
+     */
+    tv_real_t qu_V2_s;
+    tv_real_t qT_Nm2_s;
     tv_real_t r[EKF_NCH];               /**< measurement noise VARIANCES per channel: A^2, (rad/s)^2, rad^2; > 0 */
     tv_real_t var_floor[TVM_NX];        /**< lower bound on each state variance, >= 0 */
     tv_real_t var_ceil[TVM_NX];         /**< upper bound on each state variance, > var_floor */

@@ -665,7 +665,7 @@ void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
         }
         if (any) {
             /* an invalid model fails here and again, with its status, in app_init() */
-            (void)ekf_q_from_spectral(&app->model, EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S, app->ekf.Q);
+            (void)ekf_q_from_spectral(&app->model, app->ekf.qu_V2_s, app->ekf.qT_Nm2_s, app->ekf.Q);
         }
         (void)real_keys_copy(cfg, s_sl_keys, N_SL_KEYS, &app->stop_learn);
         if (cfg->diag_identified != 0) {

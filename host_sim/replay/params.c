@@ -496,8 +496,10 @@ int params_apply(const params_t *p, app_config_t *cfg, char *err, size_t cap)
         return rc;
     }
     if (model_set || p->line[K_QU] != 0u || p->line[K_QT] != 0u) {
-        tv_real_t qu = EKF_DEFAULT_QU_V2_S;
-        tv_real_t qT = EKF_DEFAULT_QT_NM2_S;
+        /* from the densities in force (an earlier file's, or the defaults), not the defaults:
+         * a model-only file applied on top of one that set them keeps them */
+        tv_real_t qu = c.ekf.qu_V2_s;
+        tv_real_t qT = c.ekf.qT_Nm2_s;
         if (p->line[K_QU] != 0u) {
             rc = to_real(p, K_QU, &qu, err, cap);
         }
@@ -506,6 +508,8 @@ int params_apply(const params_t *p, app_config_t *cfg, char *err, size_t cap)
         }
         if (rc == TV_OK) {
             rc = ekf_q_from_spectral(&c.model, qu, qT, c.ekf.Q);
+            c.ekf.qu_V2_s = qu;
+            c.ekf.qT_Nm2_s = qT;
             if (rc != TV_OK) {
                 msg(err, cap, "%s: Q from qu, qT and the model: %s", p->file, tv_status_str(rc));
             }
@@ -530,7 +534,7 @@ static void shortest_g(char *out, size_t cap, double v)
     }
 }
 
-int params_write(FILE *f, const app_config_t *cfg, const params_t *p)
+int params_write(FILE *f, const app_config_t *cfg)
 {
     app_config_t c;
     int k;
@@ -566,9 +570,9 @@ int params_write(FILE *f, const app_config_t *cfg, const params_t *p)
         } else if (k == K_DIAG_IDENTIFIED) {
             v = (double)c.diag.identified;
         } else if (k == K_QU) {
-            v = p != NULL && p->line[K_QU] != 0u ? p->value[K_QU] : (double)EKF_DEFAULT_QU_V2_S;
+            v = (double)c.ekf.qu_V2_s; /* the density in force (a file's, else the default) */
         } else {
-            v = p != NULL && p->line[K_QT] != 0u ? p->value[K_QT] : (double)EKF_DEFAULT_QT_NM2_S;
+            v = (double)c.ekf.qT_Nm2_s;
         }
         range_text(k, rng, sizeof rng);
         shortest_g(num, sizeof num, v);

@@ -79,19 +79,21 @@ int params_is_set(const params_t *p, const char *key);
 
 /**
  * Apply the settings on top of cfg (defaults, or a log's calibration already in it): copy the
- * keys that are set, recompute Q when a model key or a density is set, check the cross-field
- * rules. cfg is only written on success.
+ * keys that are set, recompute Q when a model key or a density is set (from the densities in
+ * force, cfg->ekf.qu_V2_s and qT_Nm2_s, for those the file does not set; both are then stored
+ * there), check the cross-field rules. cfg is only written on success.
  * @return 0; TV_ERR_NULL; TV_ERR_RANGE (a cross-field rule, or a value the scalar type of this
  *         build cannot hold: err names the keys); the status of ekf_q_from_spectral().
  */
 int params_apply(const params_t *p, app_config_t *cfg, char *err, size_t cap);
 
 /**
- * Write every key with its value in cfg (qu, qT: the defaults unless set in p, which may be
- * NULL) as a parameter file that params_load() reads back to the same configuration.
+ * Write every key with its value in cfg (qu, qT: the densities Q was built from,
+ * cfg->ekf.qu_V2_s and qT_Nm2_s) as a parameter file that params_load() reads back to the same
+ * configuration.
  * @return 0; TV_ERR_NULL; TV_ERR_IO.
  */
-int params_write(FILE *f, const app_config_t *cfg, const params_t *p);
+int params_write(FILE *f, const app_config_t *cfg);
 
 /** Name of key k (0 .. PARAMS_NKEYS - 1), NULL outside. */
 const char *params_key_name(int k);

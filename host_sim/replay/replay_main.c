@@ -217,7 +217,7 @@ int main(int argc, char **argv)
             return RLR_EXIT_PARAMS;
         }
         if (print_params) {
-            return params_write(stdout, &cfg, &s_params) == TV_OK ? RLR_EXIT_OK : RLR_EXIT_IO;
+            return params_write(stdout, &cfg) == TV_OK ? RLR_EXIT_OK : RLR_EXIT_IO;
         }
     }
 

@@ -94,7 +94,7 @@ static int write_learned_params(const char *path, const sim_options_t *opt, cons
         fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, path, strerror(errno));
         return -1;
     }
-    rc = params_write(f, &cfg, &s_params);
+    rc = params_write(f, &cfg);
     if (fclose(f) != 0 || rc != TV_OK) {
         fprintf(stderr, "%s: write error on %s\n", s_prog, path);
         return -1;
@@ -447,7 +447,7 @@ int main(int argc, char **argv)
             return MAIN_EXIT_PARAMS;
         }
         if (print_params) {
-            return params_write(stdout, &s_app_cfg, &s_params) == TV_OK ? 0 : MAIN_EXIT_FAIL;
+            return params_write(stdout, &s_app_cfg) == TV_OK ? 0 : MAIN_EXIT_FAIL;
         }
         opt.app = &s_app_cfg;
     }

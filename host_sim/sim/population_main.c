@@ -300,7 +300,7 @@ static int write_unit_params(const char *dir, const char *section, uint64_t unit
                  section, (unsigned long long)unit, plant_class_name(cls), (unsigned long long)unit,
                  plant_class_name(cls), spread == PLANT_SPREAD_STOPS ? "stops" : "all", path) < 0
              ? TV_ERR_IO
-             : params_write(f, ac, &s_params);
+             : params_write(f, ac);
     if (fclose(f) != 0 || rc != TV_OK) {
         fprintf(stderr, "%s: write error on %s\n", s_prog, path);
         return -1;

@@ -86,6 +86,8 @@ static int sim_app_config(const sim_options_t *opt, app_config_t *cfg)
     cfg->ekf.setup = opt->setup;
     if (opt->q_override) {
         const int rc = ekf_q_from_spectral(&cfg->model, (tv_real_t)opt->qu_V2_s, (tv_real_t)opt->qT_Nm2_s, cfg->ekf.Q);
+        cfg->ekf.qu_V2_s = (tv_real_t)opt->qu_V2_s;
+        cfg->ekf.qT_Nm2_s = (tv_real_t)opt->qT_Nm2_s;
         if (rc != TV_OK) {
             return rc;
         }

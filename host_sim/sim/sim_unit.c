@@ -60,7 +60,7 @@ int sim_app_config_for_unit(plant_class_t cls, const plant_config_t *unit, app_c
     }
     app_config_default(cfg);
     sim_model_from_plant(&nominal, &cfg->model);
-    rc = ekf_q_from_spectral(&cfg->model, EKF_DEFAULT_QU_V2_S, EKF_DEFAULT_QT_NM2_S, cfg->ekf.Q);
+    rc = ekf_q_from_spectral(&cfg->model, cfg->ekf.qu_V2_s, cfg->ekf.qT_Nm2_s, cfg->ekf.Q);
     if (rc != TV_OK) {
         return rc;
     }
