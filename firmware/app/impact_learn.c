@@ -53,6 +53,10 @@ static void impact_restart(il_t *il)
     il->n = 0u;
     il->n_contact = 0u;
     il->p_max = TV_R(0.0);
+    il->pen_last = TV_R(0.0);
+    il->pen_before = TV_R(0.0);
+    il->pen_after = TV_R(0.0);
+    il->have_after = 0u;
     il->push_sum = TV_R(0.0);
     il->push_n = TV_R(0.0);
     il->dw_sum = TV_R(0.0);
@@ -110,6 +114,26 @@ static tv_real_t clampr(tv_real_t v, tv_real_t lo, tv_real_t hi)
     return v < lo ? lo : (v > hi ? hi : v);
 }
 
+/* The deepest penetration between the samples: the vertex of the parabola through the deepest
+ * sampled one and its two neighbours (a 1 kHz sample lands at the deepest point only by
+ * chance, and the energy balance takes the power e + 1 of it: the sampled maximum made k_obs
+ * stiffer than the unit, measured); the sampled maximum where the neighbours do not bracket a
+ * vertex within half a period of it. */
+static tv_real_t peak_penetration(const il_t *il)
+{
+    const tv_real_t pm = il->p_max;
+    const tv_real_t curv = il->pen_before - TV_R(2.0) * pm + il->pen_after;
+    tv_real_t d;
+    if (!il->have_after || !(curv < TV_R(0.0))) {
+        return pm;
+    }
+    d = TV_R(0.5) * (il->pen_before - il->pen_after) / curv; /* vertex offset [periods] */
+    if (!(d > TV_R(-0.5) && d < TV_R(0.5))) {
+        return pm;
+    }
+    return pm - TV_R(0.25) * (il->pen_before - il->pen_after) * d;
+}
+
 /* The impact is over and settled: learn from it. Returns 1 when the law changed. */
 static int learn(il_t *il, const tvm_params_t *m)
 {
@@ -130,10 +154,10 @@ static int learn(il_t *il, const tvm_params_t *m)
     ++il->n_learned;
     if (il->p_max >= il->cfg.p_min_rad && il->n_contact >= 2u) {
         /* k p^(e+1) / (e+1) = J (x - ln(1 + x)) / alpha^2 + push p  (x = alpha v_in) */
+        const tv_real_t pk = peak_penetration(il);
         const tv_real_t xa = il->alpha * il->v_in;
-        const tv_real_t energy = J * (xa - TV_LOG1P(xa)) / (il->alpha * il->alpha) +
-                                 push * il->p_max;
-        const tv_real_t k_obs = (e + TV_R(1.0)) * energy / TV_POWP(il->p_max, e + TV_R(1.0));
+        const tv_real_t energy = J * (xa - TV_LOG1P(xa)) / (il->alpha * il->alpha) + push * pk;
+        const tv_real_t k_obs = (e + TV_R(1.0)) * energy / TV_POWP(pk, e + TV_R(1.0));
         const tv_real_t ref = TV_POWP(IL_P_REF_RAD, TV_R(1.0) - e);
         if (TV_IS_FINITE(k_obs) && k_obs > TV_R(0.0)) {
             il->k = clampr(il->k * TV_EXP(g * TV_LOG(k_obs / il->k)), il->cfg.k_sec_min * ref, il->cfg.k_sec_max * ref);
@@ -191,6 +215,14 @@ int il_step(il_t *il, const tvm_params_t *model, tv_real_t phi_meas, int phi_val
             il->push_n += TV_R(1.0);
         }
         il->dw_sum += q_away(il->stop, x[TVM_W] - w_prior);
+        if (pen > TV_R(0.0) && pen > il->p_max) {
+            il->pen_before = il->pen_last; /* a new deepest sample: its neighbours start over */
+            il->have_after = 0u;
+        } else if (!il->have_after && il->p_max > TV_R(0.0)) {
+            il->pen_after = pen;
+            il->have_after = 1u;
+        }
+        il->pen_last = pen;
         if (pen > TV_R(0.0)) {
             ++il->n_contact;
             il->p_max = pen > il->p_max ? pen : il->p_max;

@@ -107,6 +107,10 @@ typedef struct {
     uint16_t n_contact;      /**< samples with the measured angle beyond the onset */
     tv_real_t v_in;          /**< impact speed [rad/s] */
     tv_real_t p_max;         /**< deepest measured penetration [rad] */
+    tv_real_t pen_last;      /**< the last sample's measured penetration [rad] (< 0: outside the onset) */
+    tv_real_t pen_before;    /**< the penetration of the sample before the deepest [rad] */
+    tv_real_t pen_after;     /**< ... and of the sample after it [rad] (valid when have_after) */
+    uint8_t have_after;      /**< 1: pen_after holds the sample after the deepest */
     tv_real_t push_sum;      /**< sum of the net torque into the stop over the impact's compression [N m] */
     tv_real_t push_n;        /**< samples in push_sum (those with the estimate still moving into the stop) */
     tv_real_t dw_sum;        /**< sum of the estimator's velocity corrections away from the stop [rad/s] */
