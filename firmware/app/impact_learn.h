@@ -34,7 +34,7 @@
  *      net torque the model puts into the stop (motor, springs) averaged over the samples
  *      whose estimate still moves into it (P: the compression's; over the whole impact the
  *      back-EMF's braking on the way in and its push on the way out cancelled, and the stiffness
- *      came out too high: +20 % on units whose true law it was given, measured);
+ *      came out too high: 9 - 25 % on units whose true law it was given, measured);
  *   3. the impact is over when the estimate moves away from the stop and the measured angle is
  *      outside the onset (a contact seen, or a reversal within the first sample: no drive does
  *      that), and abandoned when the plate stays near the stop for contact_max samples (it
