@@ -227,6 +227,24 @@ static void test_bridge_rule(void)
     }
     TV_CHECK(diag_confirmed(&d, DIAG_DTC_P2100));
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A03));
+    /* a current sweeping through zero at 0.07 A per period (shorted turns: the plate coasts at
+     * u = 6.4 V with the model's back-EMF at 9.9 V, the unit's near u): it conducts, so no
+     * failure however long it stays within the 0.15 A band; held at 0 A (an open winding), the
+     * same samples fail from the second on and confirm at the 6th */
+    fresh(&d, &dd);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);
+    for (k = 0; k < 8; ++k) {
+        diag_open_check(&dd, &d, 1, TV_R(6.4), TV_R(9.9), 1, TV_R(9.9), TV_R(0.21) - TV_R(0.07) * (tv_real_t)k, &s);
+    }
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P2100) && !diag_pending(&d, DIAG_DTC_P1A03));
+    fresh(&d, &dd);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);
+    diag_open_check(&dd, &d, 1, TV_R(6.4), TV_R(9.9), 1, TV_R(9.9), TV_R(0.5), &s); /* conducting */
+    for (k = 1; k <= 6; ++k) {
+        TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P2100));
+        diag_open_check(&dd, &d, 1, TV_R(6.4), TV_R(9.9), 1, TV_R(9.9), TV_R(0.0), &s); /* opens */
+    }
+    TV_CHECK(diag_confirmed(&d, DIAG_DTC_P2100));
 }
 
 /* ---------------------------------------------------------------------------------------- */

@@ -28,7 +28,9 @@
  *     the start of the period: the back-EMF leaves that much to drive a current; the first
  *     condition keeps a wrong velocity estimate, e.g. against a stop the model does not know yet,
  *     from making a small voltage look large), and the measured current (plausible) is below
- *     open_i_max_A: a failed check; a current at or above it passes.
+ *     open_i_max_A: a failed check when it also changed by at most open_di_max_A since the
+ *     period's start (an open winding carries none at all; a current sweeping through zero
+ *     conducts: not judged); a current at or above open_i_max_A passes.
  *   WINDING RESISTANCE (P2101 above, P1A01 below its range), an adapted parameter against its
  *     healthy range: the estimator's R + dR (its winding-resistance error state), while the bridge
  *     drives a measured current of at least r_excite_A (the state is updated only under current,
@@ -202,6 +204,13 @@ typedef struct {
                                      opposing any push [rad], > 0; default 0.05 (the preload's sign turns there) */
     tv_real_t open_u_min_V;     /**< |u| and |u - n Ke w| from which a current must flow [V], > 0; default 3 */
     tv_real_t open_i_max_A;     /**< |current| below which none flows [A], > 0; default 0.15 */
+    tv_real_t open_di_max_A;    /**< ... and changing by at most this over the period [A], > 0; default 0.05
+                                     (3 sigma of a healthy sensor's period-to-period noise). A current
+                                     sweeping through zero conducts: shorted turns lower the back-EMF
+                                     constant, so where the model's back-EMF is 3 V off the voltage
+                                     the unit's may match it, and its current crossed the band in 5
+                                     samples, confirming P2100 in 12 runs of the fault matrix
+                                     (`winding_short`, 12 V sine) */
     tv_real_t r_high_frac;      /**< R + dR above this times R fails P2101 [-], > 1; default 1.35 (units
                                      spread +-20 %, and a winding warms up by some 10 %) */
     tv_real_t r_low_frac;       /**< R + dR below this times R fails P1A01 [-], (0, 1); default 0.65 */
