@@ -6,7 +6,8 @@ with an injected track offset, through the same script: the CSV columns it relie
 the offset is detected with its class. Then the identified section (each unit's filter on the
 parameters identify finds in its healthy end-of-line log, diag.identified = 1): friction +25 %,
 which the class's filter cannot tell from the +-30 % unit spread, confirmed as P2119 within the
-issue's 5 s on two all_varied units of both classes, and the same runs healthy confirm nothing.
+issue's 5 s on two all_varied units of both classes, and the same runs healthy confirm nothing;
+their summary's counts of runs missing issue 10's per-run targets match a recount from the runs CSV.
 Last, population --params-out: the host_sim command a class-b unit's file names reproduces its run."""
 import csv
 import json
@@ -118,6 +119,29 @@ def real(d, pop):
     check(t is not None and 0.0 < t["delay_median_s"] < 0.05, "its delay is below 50 ms (%s)" % (t and t["delay_median_s"]))
 
 
+def target_counts(summary, rows):
+    """The summary's counts of runs that miss the issues' per-run targets, recounted from the
+    runs CSV's own figures (ratio, NEES run average, largest 100 ms NEES)."""
+    def num(r, k):
+        return float(r[k])  # 'nan' and 'inf' parse; a NaN misses every target
+    ratio = [num(r, "ratio") for r in rows]
+    nees = [num(r, "nees_avg") for r in rows]
+    win = [num(r, "nees_window_max") for r in rows]
+    want = {
+        "runs_ratio_below_2_5": sum(not (x >= 2.5) for x in ratio),
+        "runs_nees_below_1_5": sum(x < 1.5 for x in nees),
+        "runs_nees_above_6": sum(not (x <= 6.0) for x in nees),
+        "runs_nees_window_above_30": sum(not (x <= 30.0) for x in win),
+        "runs_breaking_consistency": sum(n < 1.5 or not (n <= 6.0) or not (w <= 30.0) for n, w in zip(nees, win)),
+    }
+    check(summary["runs"] == len(rows), "the summary counts the CSV's runs (%s, %d)" % (summary["runs"], len(rows)))
+    for k, v in want.items():
+        check(summary.get(k) == v, "summary %s = %s, recounted from the runs CSV %d" % (k, summary.get(k), v))
+    # the comparison has power only if some count is not 0 (here: an identified unit's drive run
+    # below NEES 1.5); should the runs change so that none is, this fails rather than pass idly
+    check(sum(want.values()) > 0, "the runs miss at least one target, so the counts are exercised (%s)" % want)
+
+
 def identified(d, pop):
     os.makedirs(d)
     common = [pop, "--plants", "3", "--first-unit", "1000", "--seeds", "1", "--sections", "identified",
@@ -132,6 +156,7 @@ def identified(d, pop):
           "identified section: 3 units x 2 scenarios")
     check(sorted({r["class"] for r in runs["healthy"]}) == ["a", "b"], "both classes")
     check(all(r["dtc_confirmed"] == "0" for r in runs["healthy"]), "healthy identified units: no code confirmed")
+    target_counts(json.load(open(os.path.join(d, "healthy.json")))["all_varied_identified"], runs["healthy"])
     for r in runs["friction"]:
         codes = [c.split(":") for c in r["dtc_codes"].split() if c]
         first = codes[0] if codes else None

@@ -25,7 +25,9 @@
  *
  * PER RUN: velocity ratio = RMSE of the differentiated angle / RMSE of the filter (velocity,
  * scored ticks); NEES run average (3 dof); largest 100 ms NEES average; whether the
- * consistency monitor raised a flag.
+ * consistency monitor raised a flag. Per summary also the runs that miss the issues' per-run
+ * targets: runs_ratio_below_2_5, runs_nees_below_1_5, runs_nees_above_6 (or not finite),
+ * runs_nees_window_above_30 and runs_breaking_consistency (any of the last three).
  */
 #define _POSIX_C_SOURCE 200809L
 
@@ -61,6 +63,13 @@ static const char *const s_sec_short[POP_NSEC] = {"stops", "all", "adapted", "id
 /** Seeds of the nominal unit's paper sine (1 .. this): seed 1 is the issue's figure, the mean
  *  over all of them says where seed 1 lies (one seed's impacts move it by some 5 %). */
 #define POP_NOMINAL_SEEDS 20u
+
+/* The issues' per-run targets (issue 10: velocity ratio, NEES band, 100 ms window), counted as
+ * runs that miss them in each summary (runs_ratio_below_2_5 and the three after it). */
+#define POP_RATIO_TARGET 2.5
+#define POP_NEES_LOW 1.5
+#define POP_NEES_HIGH 6.0
+#define POP_WINDOW_HIGH 30.0
 /** Largest number of plants per section. */
 #define POP_PLANTS_MAX 1000u
 /** Largest number of seeds. */
@@ -379,6 +388,11 @@ typedef struct {
     unsigned faulted;
     unsigned dtc;         /**< runs with a diagnostic code confirmed */
     unsigned dtc_pending; /**< runs with a diagnostic code pending at least once */
+    unsigned ratio_low;   /**< runs whose velocity ratio is below POP_RATIO_TARGET (or not finite) */
+    unsigned nees_low;    /**< runs whose NEES run average is below POP_NEES_LOW (underconfident) */
+    unsigned nees_high;   /**< ... above POP_NEES_HIGH, or not finite (overconfident) */
+    unsigned win_high;    /**< runs with a 100 ms NEES average above POP_WINDOW_HIGH, or not finite */
+    unsigned incons;      /**< runs that miss any of the three consistency targets above */
 } pop_sum_t;
 
 static void summarise(const pop_run_t *r, unsigned n, int scn, pop_sum_t *s)
@@ -406,6 +420,14 @@ static void summarise(const pop_run_t *r, unsigned n, int scn, pop_sum_t *s)
         s->faulted += r[k].faults ? 1u : 0u;
         s->dtc += r[k].dtc != 0u ? 1u : 0u;
         s->dtc_pending += r[k].dtc_pending != 0u ? 1u : 0u;
+        s->ratio_low += !(r[k].ratio >= POP_RATIO_TARGET) ? 1u : 0u;
+        s->nees_low += r[k].nees_avg < POP_NEES_LOW ? 1u : 0u;
+        s->nees_high += !(r[k].nees_avg <= POP_NEES_HIGH) ? 1u : 0u;
+        s->win_high += !(r[k].nees_win_max <= POP_WINDOW_HIGH) ? 1u : 0u;
+        s->incons += r[k].nees_avg < POP_NEES_LOW || !(r[k].nees_avg <= POP_NEES_HIGH) ||
+                             !(r[k].nees_win_max <= POP_WINDOW_HIGH)
+                         ? 1u
+                         : 0u;
     }
     s->runs = m;
     if (m > 0u) {
@@ -437,14 +459,17 @@ static void json_sum(FILE *f, const pop_sum_t *s, unsigned plants)
     fputs(", \"nees_window_max\": ", f);
     json_num(f, s->nees_win_max);
     fprintf(f, ", \"consistency_flags_healthy\": %u, \"runs_with_faults\": %u, \"runs_with_dtc_confirmed\": %u, "
-               "\"runs_with_dtc_pending\": %u}",
-            s->flagged, s->faulted, s->dtc, s->dtc_pending);
+               "\"runs_with_dtc_pending\": %u, \"runs_ratio_below_2_5\": %u, \"runs_nees_below_1_5\": %u, "
+               "\"runs_nees_above_6\": %u, \"runs_nees_window_above_30\": %u, \"runs_breaking_consistency\": %u}",
+            s->flagged, s->faulted, s->dtc, s->dtc_pending, s->ratio_low, s->nees_low, s->nees_high, s->win_high,
+            s->incons);
 }
 
 static void print_sum(FILE *f, const char *label, const pop_sum_t *s)
 {
-    fprintf(f, "  %-14s %5u  %8.2f  %8.2f  %9.3g  %9.3g  %9.3g  %5u  %5u  %5u  %5u\n", label, s->runs, s->worst_ratio,
-            s->median_ratio, s->nees_min, s->nees_max, s->nees_win_max, s->flagged, s->faulted, s->dtc, s->dtc_pending);
+    fprintf(f, "  %-14s %5u  %8.2f  %8.2f  %9.3g  %9.3g  %9.3g  %5u  %5u  %5u  %5u  %5u %5u %5u %5u\n", label, s->runs,
+            s->worst_ratio, s->median_ratio, s->nees_min, s->nees_max, s->nees_win_max, s->flagged, s->faulted, s->dtc,
+            s->dtc_pending, s->ratio_low, s->nees_low, s->nees_high, s->win_high);
 }
 
 /* mkdir -p of the directory part of path; 0 on success (cli_make_dirs() does the work). */
@@ -783,8 +808,9 @@ int main(int argc, char **argv)
         printf("\n%s: units %llu..%llu, seeds %llu..%llu (ratio = differentiation RMSE / filter RMSE, velocity)\n",
                s_sec_name[sec], first_unit, first_unit + plants - 1u, first_seed,
                first_seed + seeds - 1u);
-        printf("  %-14s %5s  %8s  %8s  %9s  %9s  %9s  %5s  %5s  %5s  %5s\n", "scenario", "runs", "worst", "median", "NEES min",
-               "NEES max", "NEES 0.1s", "flag", "fault", "dtc", "dtcP");
+        printf("  %-14s %5s  %8s  %8s  %9s  %9s  %9s  %5s  %5s  %5s  %5s  %5s %5s %5s %5s\n", "scenario", "runs", "worst",
+               "median", "NEES min", "NEES max", "NEES 0.1s", "flag", "fault", "dtc", "dtcP", "<2.5x", "N<1.5", "N>6",
+               "W>30");
         for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
             if (use_scn[k]) {
                 summarise(s_runs[sec], n_runs[sec], k, &s);
