@@ -513,8 +513,8 @@ static void test_preload_error_state(void)
  * [[Ts, Ts^2/2], [Ts^2/2, Ts^3/3]] on (w, phi)) that brings the NIS to the gate; the update is
  * then the plain Kalman update on that P, checked against the formulas written out here. Outside the band, below the gate, or with the gate 0: no inflation.
  */
-static void run_inflation_case(double phi0, double w0, double gate, double nis_target, double *nis_seen, uint32_t *n_inflate,
-                               double x_expect[3], double x_seen[3])
+static void run_inflation_case_c(double phi0, double w0, double gate, double coupling, double nis_target, double *nis_seen,
+                                 uint32_t *n_inflate, double x_expect[3], double x_seen[3])
 {
     tvm_params_t p;
     ekf_config_t cfg;
@@ -535,6 +535,7 @@ static void run_inflation_case(double phi0, double w0, double gate, double nis_t
     ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
     cfg.contact_band_rad = TV_R(0.005);
     cfg.contact_nis_gate = (tv_real_t)gate;
+    cfg.contact_w_coupling = (tv_real_t)coupling;
     cfg.x0[TVM_I] = TV_R(0.0);
     cfg.x0[TVM_W] = (tv_real_t)w0;
     cfg.x0[TVM_PHI] = (tv_real_t)phi0;
@@ -572,7 +573,7 @@ static void run_inflation_case(double phi0, double w0, double gate, double nis_t
         const double Ts = (double)p.Ts_s;
         q = (y * y / gate - r - P[2][2]) / (Ts * Ts * Ts / 3.0);
         P[1][1] += q * Ts;
-        P[1][2] += q * Ts * Ts / 2.0;
+        P[1][2] += coupling * q * Ts * Ts / 2.0; /* the velocity coupling scales this term alone */
         P[2][1] = P[1][2];
         P[2][2] += q * Ts * Ts * Ts / 3.0;
     }
@@ -587,6 +588,12 @@ static void run_inflation_case(double phi0, double w0, double gate, double nis_t
     for (i = 0; i < 3; ++i) {
         x_seen[i] = (double)xs[i];
     }
+}
+
+static void run_inflation_case(double phi0, double w0, double gate, double nis_target, double *nis_seen, uint32_t *n_inflate,
+                               double x_expect[3], double x_seen[3])
+{
+    run_inflation_case_c(phi0, w0, gate, 1.0, nis_target, nis_seen, n_inflate, x_expect, x_seen);
 }
 
 static void test_contact_inflation(void)
@@ -630,6 +637,42 @@ static void test_contact_inflation(void)
     TV_CHECK_EQ_INT((int)n, 0);
     for (i = 0; i < 3; ++i) {
         TV_CHECK_NEAR(xs[i], xe[i], 1e-9 + fabs(xe[i]) * (TV_REAL_IS_DOUBLE ? 1e-9 : 1e-4));
+    }    /* the velocity coupling (ekf_config_t::contact_w_coupling, learned by impact_learn.h): the
+     * same inflation with P_wp's term scaled by 0.4 and by 0; the NIS still reaches the gate (it
+     * depends on P_pp alone) and a smaller coupling corrects the velocity by less */
+    {
+        double w_full;
+        const double phi_in = (double)p.phi_closed_rad + 0.002;
+        run_inflation_case(phi_in, 0.0, 9.0, 100.0, &nis, &n, xe, xs);
+        w_full = xs[TVM_W];
+        for (i = 0; i < 2; ++i) {
+            const double c = i == 0 ? 0.4 : 0.0;
+            int k;
+            run_inflation_case_c(phi_in, 0.0, 9.0, c, 100.0, &nis, &n, xe, xs);
+            TV_CHECK_NEAR(nis, 9.0, 9.0 * (TV_REAL_IS_DOUBLE ? 1e-9 : 1e-3));
+            TV_CHECK_EQ_INT((int)n, 1);
+            for (k = 0; k < 3; ++k) {
+                TV_CHECK_NEAR(xs[k], xe[k], 1e-9 + fabs(xe[k]) * (TV_REAL_IS_DOUBLE ? 1e-9 : 1e-4));
+            }
+            TV_CHECK(fabs(xs[TVM_W]) < fabs(w_full));
+        }
+    }
+    /* its setter and range */
+    {
+        ekf_config_t cfg;
+        ekf_t f;
+        ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
+        TV_CHECK(cfg.contact_w_coupling == TV_R(1.0));
+        cfg.contact_w_coupling = TV_R(1.5);
+        TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
+        cfg.contact_w_coupling = TV_R(0.5);
+        TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
+        TV_CHECK_EQ_INT(ekf_set_contact_w_coupling(&f, TV_R(-0.1)), TV_ERR_CONFIG);
+        TV_CHECK_EQ_INT(ekf_set_contact_w_coupling(&f, (tv_real_t)NAN), TV_ERR_NONFINITE);
+        TV_CHECK_EQ_INT(ekf_set_contact_w_coupling(NULL, TV_R(0.5)), TV_ERR_NULL);
+        TV_CHECK(f.cfg.contact_w_coupling == TV_R(0.5)); /* unchanged by the refused calls */
+        TV_CHECK_EQ_INT(ekf_set_contact_w_coupling(&f, TV_R(0.0)), TV_OK);
+        TV_CHECK(f.cfg.contact_w_coupling == TV_R(0.0));
     }
 }
 

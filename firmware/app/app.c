@@ -180,6 +180,7 @@ int app_init(app_t *app, const app_config_t *cfg)
     (void)nism_init(&app->nism, &cfg->nism); /* validated above */
     (void)st_reset(&app->st, &cfg->stop_track, cfg->model.phi_closed_rad, cfg->model.phi_open_rad); /* likewise */
     (void)il_reset(&app->il, &cfg->impact_learn, &app->ekf.model.p); /* a law without stiffness: never learns */
+    app->il.coupling = cfg->ekf.contact_w_coupling; /* as learned before (a parameter file), validated */
     diag_init(&app->diag);
     (void)diag_detect_init(&app->ddet, &cfg->diag); /* validated above */
     {
@@ -513,8 +514,10 @@ static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
                     app->cfg.model.k_stop_Nm_rad = app->sl.k_stop;
                     app->cfg.model.stop_exponent = app->sl.exponent;
                     app->cfg.model.d_stop_Nm_s_rad = app->sl.cfg.lambda_per_k_s_rad * app->sl.k_stop;
-                    /* impacts refine the new law from here */
+                    /* impacts refine the new law from here, and the inflation's coupling with it */
                     (void)il_reset(&app->il, &app->cfg.impact_learn, &app->ekf.model.p);
+                    (void)ekf_set_contact_w_coupling(&app->ekf, app->il.coupling);
+                    app->cfg.ekf.contact_w_coupling = app->il.coupling;
                 }
             }
             app->cfg.control.mode = APP_MODE_OFF;
@@ -905,6 +908,9 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
             if (ekf_set_contact_law(&app->ekf, app->il.k, e, app->il.alpha * app->il.k) == TV_OK) {
                 app->cfg.model.k_stop_Nm_rad = app->il.k;
                 app->cfg.model.d_stop_Nm_s_rad = app->il.alpha * app->il.k;
+            }
+            if (ekf_set_contact_w_coupling(&app->ekf, app->il.coupling) == TV_OK) {
+                app->cfg.ekf.contact_w_coupling = app->il.coupling;
             }
         }
     }

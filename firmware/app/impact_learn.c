@@ -38,7 +38,7 @@ int il_config_check(const il_config_t *cfg)
         return TV_ERR_NONFINITE;
     }
     if (cfg->enable > 1u || !(cfg->v_min_rad_s > TV_R(0.0)) || !(cfg->arm_margin_rad > TV_R(0.0)) ||
-        cfg->contact_max < 2u || cfg->contact_max > 1000u || cfg->settle < 1u || cfg->settle > 20u ||
+        cfg->contact_max < 2u || cfg->contact_max > 1000u || cfg->settle < (uint16_t)(IL_FIT_N - 1) || cfg->settle > 20u ||
         !(cfg->gain > TV_R(0.0)) || cfg->gain > TV_R(1.0) || !(cfg->alpha_min > TV_R(0.0)) ||
         !(cfg->alpha_max > cfg->alpha_min) || !(cfg->p_min_rad > TV_R(0.0)) || !(cfg->k_sec_min > TV_R(0.0)) ||
         !(cfg->k_sec_max > cfg->k_sec_min)) {
@@ -83,6 +83,7 @@ int il_reset(il_t *il, const il_config_t *cfg, const tvm_params_t *model)
     il->k = model->k_stop_Nm_rad;
     il->alpha = model->d_stop_Nm_s_rad / model->k_stop_Nm_rad;
     il->rebound_err_last = TV_R(0.0);
+    il->coupling = TV_R(1.0);
     il->n_learned = 0u;
     il->n_k = 0u;
     il->n_abandoned = 0u;
@@ -143,14 +144,30 @@ static int learn(il_t *il, const tvm_params_t *m)
     tv_real_t step;
     const tv_real_t e = m->stop_exponent;
     const tv_real_t g = il->cfg.gain;
-    /* the estimator's velocity corrections over the impact and the settle samples after it,
-     * away from the stop: < 0 when the measurements took speed the model's rebound had given
-     * (too little damping), > 0 when they added what its rebound lacked. alpha moves by
-     * exp(-gain dw / v_in), bounded per impact to a factor of 2 either way. */
-    step = -g * il->dw_sum / il->v_in;
+    if (il->n_contact < 2u) {
+        /* over within a sample: the rebound seen in hindsight, the speed at the ending sample of
+         * the quadratic least-squares fit through it and the settle samples (weights of the
+         * slope at t = 0 for t = 0, 1, 2, 3), against the model's own rebound (the prior) */
+        const tv_real_t w_fit = (TV_R(-21.0) * il->phi_after[0] + TV_R(13.0) * il->phi_after[1] +
+                                 TV_R(17.0) * il->phi_after[2] - TV_R(9.0) * il->phi_after[3]) /
+                                (TV_R(20.0) * m->Ts_s);
+        const tv_real_t made = il->w_end - il->w_prior_end; /* the correction the estimator made */
+        step = g * (il->w_prior_end - w_fit) / (IL_REST_SENS * il->v_in);
+        il->rebound_err_last = (w_fit - il->w_prior_end) / il->v_in;
+        if (TV_FABS(made) >= TV_R(0.05) * il->v_in) {
+            /* the share of that correction that would have reached w_fit */
+            const tv_real_t rho = clampr((w_fit - il->w_prior_end) / made, TV_R(0.25), TV_R(2.0));
+            il->coupling = clampr(il->coupling * TV_EXP(IL_COUPLING_GAIN * TV_LOG(rho)), IL_COUPLING_MIN, TV_R(1.0));
+        }
+    } else {
+        /* resolved: the estimator's velocity corrections over the impact and the settle samples
+         * after it, away from the stop: < 0 when the measurements took speed the model's
+         * rebound had given (too little damping), > 0 when they added what its rebound lacked */
+        step = -g * il->dw_sum / il->v_in;
+        il->rebound_err_last = il->dw_sum / il->v_in;
+    }
     step = clampr(step, -TV_R(0.69314718055994531), TV_R(0.69314718055994531)); /* ln 2 */
     il->alpha = clampr(il->alpha * TV_EXP(step), il->cfg.alpha_min, il->cfg.alpha_max);
-    il->rebound_err_last = il->dw_sum / il->v_in;
     ++il->n_learned;
     if (il->p_max >= il->cfg.p_min_rad && il->n_contact >= 2u) {
         /* k p^(e+1) / (e+1) = J (x - ln(1 + x)) / alpha^2 + push p  (x = alpha v_in) */
@@ -197,6 +214,7 @@ int il_step(il_t *il, const tvm_params_t *model, tv_real_t phi_meas, int phi_val
                 il->stop = (uint8_t)q;
                 il->v_in = toward;
                 impact_restart(il);
+                il->toward_last = toward;
                 break;
             }
         }
@@ -229,15 +247,20 @@ int il_step(il_t *il, const tvm_params_t *model, tv_real_t phi_meas, int phi_val
         }
         if (toward < TV_R(0.0) && !(pen > TV_R(0.0))) {
             /* moving away, outside: the impact is over, if there was one (a contact seen, or a
-             * reversal of at least half the impact speed within the sample: no drive does that) */
-            if (il->n_contact == 0u && il->n > 1u) {
+             * reversal within this sample of an estimate still moving in at half the impact speed
+             * or more: no drive does that; it may come one sample after the arming one or two) */
+            if (il->n_contact == 0u && !(il->toward_last >= TV_R(0.5) * il->v_in)) {
                 abandon(il);
                 return 0;
             }
             il->phase = IL_AFTER;
             il->n = 0u;
+            il->w_end = q_away(il->stop, x[TVM_W]);
+            il->w_prior_end = q_away(il->stop, w_prior);
+            il->phi_after[0] = q == 0 ? phi_meas : -phi_meas;
             return 0;
         }
+        il->toward_last = toward;
         if (il->n >= il->cfg.contact_max || (il->n_contact == 0u && il->n > 3u)) {
             abandon(il); /* rests against the stop, or never reached it */
         }
@@ -246,6 +269,9 @@ int il_step(il_t *il, const tvm_params_t *model, tv_real_t phi_meas, int phi_val
     default:
         il->dw_sum += q_away(il->stop, x[TVM_W] - w_prior);
         ++il->n;
+        if (il->n < (uint16_t)IL_FIT_N) {
+            il->phi_after[il->n] = il->stop == 0u ? phi_meas : -phi_meas;
+        }
         if (il->n >= il->cfg.settle) {
             return learn(il, model);
         }

@@ -36,20 +36,40 @@
  *      back-EMF's braking on the way in and its push on the way out cancelled, and the stiffness
  *      came out too high: 9 - 25 % on units whose true law it was given, measured);
  *   3. the impact is over when the estimate moves away from the stop and the measured angle is
- *      outside the onset (a contact seen, or a reversal within the first sample: no drive does
- *      that), and abandoned when the plate stays near the stop for contact_max samples (it
- *      rests) or never reaches it; over the impact and the settle samples after it, the
- *      estimator's velocity corrections (posterior - prior) are summed as speed away from the
- *      stop: dw (the whole window: after a rebound the model lacked, the contact inflation
- *      corrects first upward and then back down; the sum is the net error. The samples after the
- *      impact alone were tried: their sign is the overshoot's, which drove a bouncy unit's
- *      damping to the bound, measured on population unit 1007);
- *   4. alpha <- alpha exp(-gain dw / v_in) (at most a factor of 2 per impact), bounded to
- *      alpha_min .. alpha_max: corrections that keep taking away-speed the model's rebound gave
- *      mean too little damping; and, when p_max >= p_min_rad over at least two samples,
- *      k <- k (k_obs / k)^gain with k_obs from the penetration relation, bounded as a secant
- *      stiffness at IL_P_REF_RAD to k_sec_min .. k_sec_max (the start-up routine's bounds).
- * The application then gives the estimator the law (k, e, alpha k): ekf_set_contact_law().
+ *      outside the onset (a contact seen, or a reversal within one sample of an estimate still
+ *      moving in at half the impact speed or more: no drive does that), and abandoned when the
+ *      plate stays near the stop for contact_max samples (it rests) or never reaches it; over
+ *      the impact and the settle samples after it, the estimator's velocity corrections
+ *      (posterior - prior) are summed as speed away from the stop: dw (the whole window: after a
+ *      rebound the model lacked, the contact inflation corrects first upward and then back
+ *      down; the sum is the net error. The samples after the impact alone were tried: their sign
+ *      is the overshoot's, which drove a bouncy unit's damping to the bound, measured on
+ *      population unit 1007). At the sample that ends the impact the estimate's speed away from
+ *      the stop before (w_prior_end) and after (w_end) its correction are kept, and the measured
+ *      angles of it and the next IL_FIT_N - 1 samples;
+ *   4. the damping ratio, bounded to alpha_min .. alpha_max and by a factor of 2 per impact:
+ *      - an impact over within a sample (fewer than two samples beyond the onset: a stop the
+ *        sensor cannot resolve): the rebound seen in HINDSIGHT, w_fit, the speed at the ending
+ *        sample of the quadratic least-squares fit through those IL_FIT_N angles (free flight
+ *        under a nearly constant torque), against the model's own rebound there, the prior:
+ *        alpha <- alpha exp(gain (w_prior_end - w_fit) / (IL_REST_SENS v_in)). IL_REST_SENS is
+ *        the restitution's sensitivity to ln alpha (about 0.25 for the laws learned at 12 V).
+ *        The correction sum dw cannot serve there: a model whose rebound is too fast gets an
+ *        upward correction at the impact's sample and downward ones after, which nearly cancel
+ *        (unit 1014: dw / v_in -0.13 while its prior rebound was 2.5x the unit's).
+ *        The estimator's velocity coupling of the contact inflation (ekf_config_t::
+ *        contact_w_coupling) learns from the same sample: the correction it made, w_end -
+ *        w_prior_end, against the one that would have reached w_fit: coupling <- coupling
+ *        rho^IL_COUPLING_GAIN, rho = (w_fit - w_prior_end) / (w_end - w_prior_end) clipped to
+ *        0.25 .. 2, bounded to IL_COUPLING_MIN .. 1, and only when the correction was at least
+ *        0.05 v_in;
+ *      - a resolved impact: alpha <- alpha exp(-gain dw / v_in): corrections that keep taking
+ *        away-speed the model's rebound gave mean too little damping;
+ *      and, when p_max >= p_min_rad over at least two samples, k <- k (k_obs / k)^gain with k_obs
+ *      from the penetration relation, bounded as a secant stiffness at IL_P_REF_RAD to
+ *      k_sec_min .. k_sec_max (the start-up routine's bounds).
+ * The application then gives the estimator the law (k, e, alpha k), ekf_set_contact_law(), and
+ * the coupling, ekf_set_contact_w_coupling().
  *
  * Not run for a Kelvin-Voigt model (stop_exponent 0: the stops were never learned; its damping
  * is not a ratio of its stiffness) nor while the start-up routine runs.
@@ -72,6 +92,19 @@ extern "C" {
 /** Penetration at which the stiffness bounds are secant stiffnesses [rad] (as stop_learn.h's). */
 #define IL_P_REF_RAD TV_R(0.0025)
 
+/** Measured angles after an impact whose quadratic fit gives the rebound seen in hindsight (the
+ *  ending sample and IL_FIT_N - 1 settle samples: il_config_t::settle >= IL_FIT_N - 1). */
+#define IL_FIT_N 4
+
+/** The restitution's sensitivity to ln alpha, |dr / d ln alpha| (r = v_out / v_in of the law
+ *  free of other torques): ((1 - r x) / (1 + x) - r^2) / r with x = alpha v_in; 0.25 at the
+ *  learned ratio 0.21 and 12 rad/s (r 0.35), used as a constant [-]. */
+#define IL_REST_SENS TV_R(0.25)
+
+/** Low-pass gain of the contact inflation's velocity coupling per impact [-], and its lower bound. */
+#define IL_COUPLING_GAIN TV_R(0.5)
+#define IL_COUPLING_MIN TV_R(0.05)
+
 /** Configuration. Units SI. */
 typedef struct {
     uint8_t enable;          /**< 1 (default): learn; 0: the law stays as given. It was off while the 70 s
@@ -83,7 +116,7 @@ typedef struct {
                                   of a plate pushed back into the stop is not an impact of its own) */
     tv_real_t arm_margin_rad; /**< armed within |w| Ts + this of an onset, > 0; default 0.002 */
     uint16_t contact_max;    /**< samples near the stop after which the impact is abandoned, 2..1000; default 30 */
-    uint16_t settle;         /**< samples after the impact before v_out is read, 1..20; default 3 */
+    uint16_t settle;         /**< samples after the impact before it is learned from, IL_FIT_N - 1..20; default 3 */
     tv_real_t gain;          /**< log-domain low-pass gain per impact, (0, 1]; default 0.3 */
     tv_real_t alpha_min;     /**< damping ratio bounds [s/rad], 0 < min < max; default 0.04 */
     tv_real_t alpha_max;     /**< default 0.8: restitution at a 10 rad/s impact from about 0.9 down
@@ -114,10 +147,16 @@ typedef struct {
     tv_real_t push_sum;      /**< sum of the net torque into the stop over the impact's compression [N m] */
     tv_real_t push_n;        /**< samples in push_sum (those with the estimate still moving into the stop) */
     tv_real_t dw_sum;        /**< sum of the estimator's velocity corrections away from the stop [rad/s] */
+    tv_real_t toward_last;   /**< the estimate's speed into the stop at the previous sample [rad/s] */
+    tv_real_t w_end;         /**< the estimate's speed away from the stop at the sample that ended the impact [rad/s] */
+    tv_real_t w_prior_end;   /**< ... its prediction, before that sample's correction [rad/s] */
+    tv_real_t phi_after[IL_FIT_N]; /**< measured angles from that sample on, as distance away from the stop's side [rad] */
     /* results */
     tv_real_t alpha;         /**< learned damping ratio d / k [s/rad] (valid when n_learned > 0) */
     tv_real_t k;             /**< learned stiffness [N m/rad^e] (the law's, updated when resolvable) */
-    tv_real_t rebound_err_last; /**< the last impact's dw / v_in [-]: the model's rebound error relative to the impact speed */
+    tv_real_t coupling;      /**< learned velocity coupling of the contact inflation [-] (ekf_config_t::contact_w_coupling) */
+    tv_real_t rebound_err_last; /**< the last impact's rebound error relative to the impact speed [-]: (w_fit - w_prior_end) / v_in
+                                     for one over within a sample, dw / v_in for a resolved one */
     uint32_t n_learned;      /**< impacts learned from */
     uint32_t n_k;            /**< of which updated the stiffness */
     uint32_t n_abandoned;    /**< impacts armed but not learned from (rest, no reversal, invalid angle) */

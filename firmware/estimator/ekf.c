@@ -171,6 +171,7 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->m_sigma0 = EKF_DEFAULT_M_SIGMA0;
     cfg->m_abs_max = EKF_DEFAULT_M_ABS_MAX;
     cfg->contact_nis_gate = EKF_DEFAULT_CONTACT_NIS_GATE;
+    cfg->contact_w_coupling = TV_R(1.0);
     cfg->nis_inflate_alpha = EKF_DEFAULT_NIS_INFLATE_ALPHA;
     cfg->nis_inflate_threshold = EKF_DEFAULT_NIS_INFLATE_THRESHOLD;
     cfg->nis_inflate_max = EKF_DEFAULT_NIS_INFLATE_MAX;
@@ -254,7 +255,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->phi_max_rad) || !TV_IS_FINITE(cfg->contact_band_rad) || !TV_IS_FINITE(cfg->qc_Nm2_s) || !TV_IS_FINITE(cfg->qT_rel_s) ||
         !TV_IS_FINITE(cfg->stop_learn_margin_rad) || !TV_IS_FINITE(cfg->qd_contact_Nm2_s) ||
         !TV_IS_FINITE(cfg->qd_free_Nm2_s) || !TV_IS_FINITE(cfg->d_tau_s) || !TV_IS_FINITE(cfg->d_var_ceil) ||
-        !TV_IS_FINITE(cfg->contact_nis_gate) || !TV_IS_FINITE(cfg->qr_ohm2_s) ||
+        !TV_IS_FINITE(cfg->contact_nis_gate) || !TV_IS_FINITE(cfg->contact_w_coupling) || !TV_IS_FINITE(cfg->qr_ohm2_s) ||
         !TV_IS_FINITE(cfg->r_sigma0_ohm) || !TV_IS_FINITE(cfg->dr_abs_max_ohm) ||
         !TV_IS_FINITE(cfg->dr_excite_A) || !TV_IS_FINITE(cfg->qf_1_s) || !TV_IS_FINITE(cfg->f_sigma0) ||
         !TV_IS_FINITE(cfg->f_abs_max) || !TV_IS_FINITE(cfg->f_excite_rad_s) || !TV_IS_FINITE(cfg->qm_1_s) ||
@@ -280,7 +281,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         cfg->contact_band_rad < TV_R(0.0) || cfg->contact_band_rad > TV_R(0.5) || cfg->qc_Nm2_s < TV_R(0.0) || cfg->qT_rel_s < TV_R(0.0) || cfg->qT_rel_s > TV_R(1.0) ||
         cfg->stop_learn_margin_rad < TV_R(0.0) || cfg->stop_learn_margin_rad > TV_R(0.5) ||
         cfg->qd_contact_Nm2_s < TV_R(0.0) || cfg->qd_free_Nm2_s < TV_R(0.0) || !(cfg->d_tau_s > TV_R(0.0)) ||
-        !(cfg->d_var_ceil > TV_R(0.0)) || cfg->contact_nis_gate < TV_R(0.0) || cfg->qr_ohm2_s < TV_R(0.0) ||
+        !(cfg->d_var_ceil > TV_R(0.0)) || cfg->contact_nis_gate < TV_R(0.0) || cfg->contact_w_coupling < TV_R(0.0) ||
+        cfg->contact_w_coupling > TV_R(1.0) || cfg->qr_ohm2_s < TV_R(0.0) ||
         cfg->r_sigma0_ohm < TV_R(0.0) || !(cfg->dr_abs_max_ohm > TV_R(0.0)) ||
         cfg->dr_excite_A < TV_R(0.0) || cfg->qf_1_s < TV_R(0.0) || cfg->f_sigma0 < TV_R(0.0) ||
         !(cfg->f_abs_max > TV_R(0.0) && cfg->f_abs_max < TV_R(1.0)) || cfg->f_excite_rad_s < TV_R(0.0) ||
@@ -728,10 +730,12 @@ static int scalar_update(tv_real_t x[TVM_NX], mat3_t P, aug_part_t *ap, unsigned
  *   P_pp += D,  P_wp += D 3 / (2 Ts),  P_ww += D 3 / Ts^2,   D = y^2 / gate - s,
  * which is positive semidefinite (the shape of [[Ts, Ts^2/2], [Ts^2/2, Ts^3/3]]), so the NIS of
  * this update is the gate, and the velocity correction is the one a torque impulse over one
- * period implies (not the far larger one the linearised stiff stop would). Returns 1 when it
- * inflated.
+ * period implies (not the far larger one the linearised stiff stop would). The P_wp term is
+ * scaled by the coupling c in [0, 1] (ekf_config_t::contact_w_coupling; P_ww keeps its 3 D / Ts^2,
+ * so the added block stays positive semidefinite: 3 >= (1.5 c)^2). Returns 1 when it inflated.
  */
-static int inflate_at_contact(tv_real_t phi, mat3_t P, tv_real_t z, tv_real_t r, tv_real_t gate, tv_real_t Ts)
+static int inflate_at_contact(tv_real_t phi, mat3_t P, tv_real_t z, tv_real_t r, tv_real_t gate, tv_real_t Ts,
+                              tv_real_t coupling)
 {
     const tv_real_t y = z - phi;
     const tv_real_t s = P[TVM_PHI][TVM_PHI] + r;
@@ -741,7 +745,7 @@ static int inflate_at_contact(tv_real_t phi, mat3_t P, tv_real_t z, tv_real_t r,
     }
     D = y * y / gate - s;
     P[TVM_PHI][TVM_PHI] += D;
-    P[TVM_W][TVM_PHI] += D * TV_R(1.5) / Ts;
+    P[TVM_W][TVM_PHI] += coupling * D * TV_R(1.5) / Ts;
     P[TVM_PHI][TVM_W] = P[TVM_W][TVM_PHI];
     P[TVM_W][TVM_W] += D * TV_R(3.0) / (Ts * Ts);
     return 1;
@@ -830,7 +834,8 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
             const int stuck = ekf->x[TVM_W] == TV_R(0.0) &&
                               TV_FABS(meas->z[ch] - x[TVM_PHI]) <= ekf->cfg.contact_band_rad;
             if (ch == EKF_CH_ANGLE && (ekf->in_contact || stuck) && ekf->cfg.contact_nis_gate > TV_R(0.0) &&
-                inflate_at_contact(x[TVM_PHI], P, meas->z[ch], ekf->cfg.r[ch], ekf->cfg.contact_nis_gate, ekf->model.p.Ts_s)) {
+                inflate_at_contact(x[TVM_PHI], P, meas->z[ch], ekf->cfg.r[ch], ekf->cfg.contact_nis_gate, ekf->model.p.Ts_s,
+                                   ekf->cfg.contact_w_coupling)) {
                 ++n_inflate;
             }
             if (!scalar_update(x, P, ekf->aug_on ? &ap : NULL, frozen, channel_state[ch], meas->z[ch], ekf->cfg.r[ch], &res.innov[ch],
@@ -931,6 +936,21 @@ int ekf_set_stops(ekf_t *ekf, tv_real_t phi_closed_rad, tv_real_t phi_open_rad)
     }
     ekf->model.p.phi_closed_rad = phi_closed_rad;
     ekf->model.p.phi_open_rad = phi_open_rad;
+    return TV_OK;
+}
+
+int ekf_set_contact_w_coupling(ekf_t *ekf, tv_real_t coupling)
+{
+    if (ekf == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!TV_IS_FINITE(coupling)) {
+        return TV_ERR_NONFINITE;
+    }
+    if (coupling < TV_R(0.0) || coupling > TV_R(1.0)) {
+        return TV_ERR_CONFIG;
+    }
+    ekf->cfg.contact_w_coupling = coupling;
     return TV_OK;
 }
 

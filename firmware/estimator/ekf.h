@@ -240,6 +240,17 @@ typedef struct {
      */
     tv_real_t contact_nis_gate;
     /**
+     * The velocity coupling of that inflation [-], in [0, 1]; default 1: the inflation's angle
+     * variance D comes with P_w,phi += contact_w_coupling x 1.5 D / Ts (1: a white torque over
+     * the period, whose velocity correction is 1.5 / Ts per unit of angle innovation) and
+     * P_w,w += 3 D / Ts^2 whatever its value (positive semidefinite for any value in [0, 1]).
+     * The impact learning (impact_learn.h) lowers it where the angle correction at an impact
+     * overshoots the rebound seen in hindsight: a stop that is over within a sample puts the
+     * plate further out than the model's softer stop, and on a nearly plastic stop a torque
+     * impulse is the wrong explanation (README "Impact learning").
+     */
+    tv_real_t contact_w_coupling;
+    /**
      * Consistency-driven process-noise inflation (README "Consistency-driven inflation"): after
      * every correction the mean over its channels of their NIS, each at most
      * EKF_NIS_INFLATE_CLIP, v, is low-pass filtered, a <- a + nis_inflate_alpha (v - a), from
@@ -448,6 +459,12 @@ static inline void ekf_resistance_error(const ekf_t *ekf, tv_real_t *dR_ohm, tv_
  *         nothing changes.
  */
 int ekf_set_contact_law(ekf_t *ekf, tv_real_t k_stop, tv_real_t exponent, tv_real_t d_stop);
+
+/**
+ * Set ekf_config_t::contact_w_coupling (a learned value: impact_learn.h).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE; TV_ERR_CONFIG (outside [0, 1]). On error nothing changes.
+ */
+int ekf_set_contact_w_coupling(ekf_t *ekf, tv_real_t coupling);
 
 /**
  * The relative friction error estimate f [-] (the filter's friction level is g(w) (1 + f)) and

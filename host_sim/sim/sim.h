@@ -248,7 +248,8 @@ typedef struct {
     double contact_k;                /**< the estimator's contact stiffness at the end [N m/rad^e] */
     double contact_alpha_s_rad;      /**< its damping ratio d / k at the end [s/rad] */
     double contact_exponent;         /**< its exponent (0: Kelvin-Voigt) */
-    double impact_rebound_err_last;            /**< the last learned impact's rebound error dw / v_in (impact_learn.h) [-] (NaN: none) */
+    double contact_w_coupling;       /**< the contact inflation's velocity coupling at the end (ekf_config_t::contact_w_coupling) [-] */
+    double impact_rebound_err_last;            /**< the last learned impact's rebound error relative to its speed (il_t::rebound_err_last) [-] (NaN: none) */
     int stop_learn_phase;            /**< sl_phase_t at the end (SL_IDLE: the routine did not run) */
     int stop_learn_error;            /**< sl_error_t at the end */
     double stop_learn_closed_rad;    /**< learned closed stop [rad] (NaN unless SL_DONE) */

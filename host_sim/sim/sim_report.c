@@ -132,9 +132,10 @@ int sim_result_print(FILE *f, const sim_result_t *r)
                "accepted, %lu refused)\n",
             r->stop_onset_rad[0], r->stop_onset_rad[1], (unsigned long)r->stop_track_accepted,
             (unsigned long)r->stop_track_refused);
-    fprintf(f, "contact law at the end: k %.4g N m/rad^e, exponent %.3g, damping ratio d/k %.4g s/rad (impact learning, "
-               "impact_learn.h: %lu impacts learned from, %lu with the stiffness, %lu abandoned; last rebound error dw/v_in %.3g)\n",
-            r->contact_k, r->contact_exponent, r->contact_alpha_s_rad, (unsigned long)r->impact_learned,
+    fprintf(f, "contact law at the end: k %.4g N m/rad^e, exponent %.3g, damping ratio d/k %.4g s/rad, inflation's velocity "
+               "coupling %.3g (impact learning, impact_learn.h: %lu impacts learned from, %lu with the stiffness, %lu abandoned; "
+               "last rebound error / v_in %.3g)\n",
+            r->contact_k, r->contact_exponent, r->contact_alpha_s_rad, r->contact_w_coupling, (unsigned long)r->impact_learned,
             (unsigned long)r->impact_k_updates, (unsigned long)r->impact_abandoned, r->impact_rebound_err_last);
     if (r->stop_learn_phase != (int)SL_IDLE) {
         fprintf(f, "stop learning (APP_MODE_STOP_LEARN): %s%s%s after %.3f s; closed %.5f rad, open %.5f rad; "
@@ -258,6 +259,8 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     sim_jnum(f, r->contact_exponent);
     fputs(", \"alpha_s_rad\": ", f);
     sim_jnum(f, r->contact_alpha_s_rad);
+    fputs(", \"w_coupling\": ", f);
+    sim_jnum(f, r->contact_w_coupling);
     fputs(", \"restitution_last\": ", f);
     sim_jnum(f, r->impact_rebound_err_last);
     fprintf(f, ", \"impacts_learned\": %lu, \"k_updates\": %lu, \"abandoned\": %lu},\n", (unsigned long)r->impact_learned,

@@ -659,6 +659,7 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
                                    ? (double)(app->ekf.model.p.d_stop_Nm_s_rad / app->ekf.model.p.k_stop_Nm_rad)
                                    : SIM_NAN;
     res->contact_exponent = (double)app->ekf.model.p.stop_exponent;
+    res->contact_w_coupling = (double)app->ekf.cfg.contact_w_coupling;
     res->impact_rebound_err_last = app->il.n_learned > 0u ? (double)app->il.rebound_err_last : SIM_NAN;
     res->stop_learn_phase = (int)app->sl.phase;
     res->stop_learn_error = (int)app->sl.error;
