@@ -99,14 +99,21 @@ static void test_configuration_is_validated(void)
     TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_ERR_CONFIG);
 }
 
+/* The defaults with the learning enabled. */
+static il_config_t learning_on(void)
+{
+    il_config_t c;
+    il_config_default(&c);
+    c.enable = 1u;
+    return c;
+}
+
 static void test_damping_follows_the_corrections(void)
 {
     const tvm_params_t p = law_model();
-    il_config_t c;
+    const il_config_t c = learning_on();
     il_t il;
     double expected;
-    il_config_default(&c);
-    c.enable = 1u;
     TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
     /* a resolved impact whose settle samples' corrections take 1 rad/s of away-speed each: dw = -settle */
     TV_CHECK_EQ_INT(resolved_corrected(&il, &p, -1.0), 1);
@@ -162,11 +169,9 @@ static int within_a_sample(il_t *il, const tvm_params_t *p, int late, double w_p
 static void test_damping_from_the_rebound_in_hindsight(void)
 {
     const tvm_params_t p = law_model();
-    il_config_t c;
+    const il_config_t c = learning_on();
     il_t il;
     double expected;
-    il_config_default(&c);
-    c.enable = 1u;
     /* the model rebounds at 5 where the unit did at 2 (too little damping), and the correction
      * added 1 more: alpha x exp(0.3 x 3 / 2.5), the coupling x 0.25^0.5 (rho = -3, clipped) */
     TV_CHECK_EQ_INT(il_reset(&il, &c, &p), TV_OK);
