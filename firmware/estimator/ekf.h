@@ -244,7 +244,8 @@ typedef struct {
      * variance D comes with P_w,phi += contact_w_coupling x 1.5 D / Ts (1: a white torque over
      * the period, whose velocity correction is 1.5 / Ts per unit of angle innovation) and
      * P_w,w += 3 D / Ts^2 whatever its value (positive semidefinite for any value in [0, 1]).
-     * The impact learning (impact_learn.h) lowers it where the angle correction at an impact
+     * It applies to every such inflation, in the contact band and on a plate the model holds
+     * stuck alike. The impact learning (impact_learn.h) lowers it where the angle correction at an impact
      * overshoots the rebound seen in hindsight: a stop that is over within a sample puts the
      * plate further out than the model's softer stop, and on a nearly plastic stop a torque
      * impulse is the wrong explanation (README "Impact learning").
