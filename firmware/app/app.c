@@ -245,6 +245,15 @@ const sl_t *app_stop_learn(const app_t *app)
     return app == NULL ? NULL : &app->sl;
 }
 
+/* The impact learning's contact-inflation coupling to the estimator, and to cfg.ekf (persisted
+ * with the parameters) when the estimator takes it. */
+static void use_coupling(app_t *app)
+{
+    if (ekf_set_contact_w_coupling(&app->ekf, app->il.coupling) == TV_OK) {
+        app->cfg.ekf.contact_w_coupling = app->il.coupling;
+    }
+}
+
 /* The stops in use: the estimator's model and the position limits (cfg.model). */
 static int use_stops(app_t *app, tv_real_t phi_closed_rad, tv_real_t phi_open_rad)
 {
@@ -516,8 +525,7 @@ static tv_real_t control_law(app_t *app, uint64_t elapsed_us)
                     app->cfg.model.d_stop_Nm_s_rad = app->sl.cfg.lambda_per_k_s_rad * app->sl.k_stop;
                     /* impacts refine the new law from here, and the inflation's coupling with it */
                     (void)il_reset(&app->il, &app->cfg.impact_learn, &app->ekf.model.p);
-                    (void)ekf_set_contact_w_coupling(&app->ekf, app->il.coupling);
-                    app->cfg.ekf.contact_w_coupling = app->il.coupling;
+                    use_coupling(app);
                 }
             }
             app->cfg.control.mode = APP_MODE_OFF;
@@ -909,9 +917,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
                 app->cfg.model.k_stop_Nm_rad = app->il.k;
                 app->cfg.model.d_stop_Nm_s_rad = app->il.alpha * app->il.k;
             }
-            if (ekf_set_contact_w_coupling(&app->ekf, app->il.coupling) == TV_OK) {
-                app->cfg.ekf.contact_w_coupling = app->il.coupling;
-            }
+            use_coupling(app);
         }
     }
     if (angle_ok && periods > 0u) {

@@ -98,7 +98,7 @@ static tv_real_t push_into(const tvm_params_t *m, int q, const tv_real_t x[TVM_N
     return q == 0 ? -drive : drive;
 }
 
-/* A velocity (change) as its component away from stop q (0 closed: positive w; 1 open). */
+/* A velocity (change), or an angle, as its component away from stop q (0 closed: positive; 1 open). */
 static tv_real_t q_away(uint8_t q, tv_real_t w)
 {
     return q == 0u ? w : -w;
@@ -152,11 +152,12 @@ static int learn(il_t *il, const tvm_params_t *m)
                                  TV_R(17.0) * il->phi_after[2] - TV_R(9.0) * il->phi_after[3]) /
                                 (TV_R(20.0) * m->Ts_s);
         const tv_real_t made = il->w_end - il->w_prior_end; /* the correction the estimator made */
-        step = g * (il->w_prior_end - w_fit) / (IL_REST_SENS * il->v_in);
-        il->rebound_err_last = (w_fit - il->w_prior_end) / il->v_in;
+        const tv_real_t lack = w_fit - il->w_prior_end;     /* ... and the one that would have reached w_fit */
+        step = -g * lack / (IL_REST_SENS * il->v_in);
+        il->rebound_err_last = lack / il->v_in;
         if (TV_FABS(made) >= TV_R(0.05) * il->v_in) {
             /* the share of that correction that would have reached w_fit */
-            const tv_real_t rho = clampr((w_fit - il->w_prior_end) / made, TV_R(0.25), TV_R(2.0));
+            const tv_real_t rho = clampr(lack / made, TV_R(0.25), TV_R(2.0));
             il->coupling = clampr(il->coupling * TV_EXP(IL_COUPLING_GAIN * TV_LOG(rho)), IL_COUPLING_MIN, TV_R(1.0));
         }
     } else {
@@ -257,7 +258,7 @@ int il_step(il_t *il, const tvm_params_t *model, tv_real_t phi_meas, int phi_val
             il->n = 0u;
             il->w_end = q_away(il->stop, x[TVM_W]);
             il->w_prior_end = q_away(il->stop, w_prior);
-            il->phi_after[0] = q == 0 ? phi_meas : -phi_meas;
+            il->phi_after[0] = q_away(il->stop, phi_meas);
             return 0;
         }
         il->toward_last = toward;
@@ -270,7 +271,7 @@ int il_step(il_t *il, const tvm_params_t *model, tv_real_t phi_meas, int phi_val
         il->dw_sum += q_away(il->stop, x[TVM_W] - w_prior);
         ++il->n;
         if (il->n < (uint16_t)IL_FIT_N) {
-            il->phi_after[il->n] = il->stop == 0u ? phi_meas : -phi_meas;
+            il->phi_after[il->n] = q_away(il->stop, phi_meas);
         }
         if (il->n >= il->cfg.settle) {
             return learn(il, model);

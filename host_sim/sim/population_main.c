@@ -420,14 +420,17 @@ static void summarise(const pop_run_t *r, unsigned n, int scn, pop_sum_t *s)
         s->faulted += r[k].faults ? 1u : 0u;
         s->dtc += r[k].dtc != 0u ? 1u : 0u;
         s->dtc_pending += r[k].dtc_pending != 0u ? 1u : 0u;
-        s->ratio_low += !(r[k].ratio >= POP_RATIO_TARGET) ? 1u : 0u;
-        s->nees_low += r[k].nees_avg < POP_NEES_LOW ? 1u : 0u;
-        s->nees_high += !(r[k].nees_avg <= POP_NEES_HIGH) ? 1u : 0u;
-        s->win_high += !(r[k].nees_win_max <= POP_WINDOW_HIGH) ? 1u : 0u;
-        s->incons += r[k].nees_avg < POP_NEES_LOW || !(r[k].nees_avg <= POP_NEES_HIGH) ||
-                             !(r[k].nees_win_max <= POP_WINDOW_HIGH)
-                         ? 1u
-                         : 0u;
+        {
+            /* the issues' per-run targets missed (a value that is not finite misses them too) */
+            const unsigned low = r[k].nees_avg < POP_NEES_LOW ? 1u : 0u;
+            const unsigned high = !(r[k].nees_avg <= POP_NEES_HIGH) ? 1u : 0u;
+            const unsigned win = !(r[k].nees_win_max <= POP_WINDOW_HIGH) ? 1u : 0u;
+            s->ratio_low += !(r[k].ratio >= POP_RATIO_TARGET) ? 1u : 0u;
+            s->nees_low += low;
+            s->nees_high += high;
+            s->win_high += win;
+            s->incons += (low | high | win);
+        }
     }
     s->runs = m;
     if (m > 0u) {
