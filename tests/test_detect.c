@@ -779,11 +779,40 @@ static void test_current_sensor_check_timing(void)
         diag_current_sensor_check(&dd, &d, k % 400 != 0, 1, 1, k % 400 == 0 ? TV_R(0.0) : TV_R(0.05) + i, TV_R(0.05), w, &snap);
     }
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+    /* the band scales with the preload-holding current (diag_detect_set_hold_current()): the same
+     * offset (a 10 % slope on i) with the current sweeping +-0.5 A. Until set, the paper's band (0.8 x 0.25 / (40 x
+     * 0.017) = 0.294 A) counts 29 of every 50 samples, so the 3,000th call pair has not confirmed;
+     * with the hold current of class b (0.32 / (40 x 0.011) = 0.727 A: a band of 0.58 A) every
+     * sample counts and it confirms exactly there. A hold current that is not > 0 is refused and
+     * leaves the band as it was. */
+    for (first = 0; first < 2; ++first) {
+        int confirmed_at = -1;
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        diag_init(&d);
+        if (first == 1) {
+            TV_CHECK_EQ_INT(diag_detect_set_hold_current(&dd, TV_R(0.32) / (TV_R(40.0) * TV_R(0.011))), TV_OK);
+            TV_CHECK_EQ_INT(diag_detect_set_hold_current(&dd, TV_R(0.0)), TV_ERR_CONFIG);
+            TV_CHECK_EQ_INT(diag_detect_set_hold_current(&dd, TV_R(-1.0)), TV_ERR_CONFIG);
+            TV_CHECK_EQ_INT(diag_detect_set_hold_current(NULL, TV_R(1.0)), TV_ERR_NULL);
+        }
+        for (k = 0; k < 6 * (int)DIAG_ISENS_WIN && confirmed_at < 0; ++k) {
+            const tv_real_t i = TV_R(2.0) * isens_i(k);
+            const tv_real_t w = isens_w(k);
+            const tv_real_t y = TV_R(0.05) + TV_R(0.1) * i + TV_R(0.01) * w; /* |y| <= 0.13: inside the impact gate */
+            diag_current_sensor_check(&dd, &d, 1, 1, 1, TV_R(2.0), TV_R(1.0), w, &snap);
+            diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap);
+            if (diag_confirmed(&d, DIAG_DTC_P1A04)) {
+                confirmed_at = k;
+            }
+        }
+        TV_CHECK_EQ_INT(confirmed_at, first == 1 ? 6 * (int)DIAG_ISENS_WIN - 1 : -1);
+        TV_CHECK(first == 1 || diag_pending(&d, DIAG_DTC_P1A04)); /* the paper's band: judged, just later */
+    }
     /* thresholds out of range are refused */
     cfg.isens_vif_max = TV_R(0.5);
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
     diag_detect_config_default(&cfg);
-    cfg.isens_i_max_A = TV_R(0.0);
+    cfg.isens_i_max_hold = TV_R(0.0);
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
     diag_detect_config_default(&cfg);
     cfg.isens_innov_max_A = TV_R(0.0);

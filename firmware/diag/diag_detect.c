@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <string.h>
 
+#include "tv_paper.h"
 #include "tv_status.h"
 
 void diag_detect_config_default(diag_detect_config_t *cfg)
@@ -39,7 +40,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->supply_hyst_V = TV_R(0.5);
     cfg->isens_zero_max_A = TV_R(0.02);
     cfg->isens_bias_max_A = TV_R(0.035);
-    cfg->isens_i_max_A = TV_R(0.3);
+    cfg->isens_i_max_hold = TV_R(0.8);
     cfg->isens_innov_max_A = TV_R(0.15);
     cfg->isens_vif_max = TV_R(4.0);
     cfg->torque_tau_samples = TV_R(50.0);
@@ -94,7 +95,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
                                  cfg->bridge_lost_frac, cfg->supply_low_V,      cfg->supply_hyst_V,
                                  cfg->isens_zero_max_A, cfg->isens_bias_max_A,  cfg->isens_vif_max,
-                                 cfg->isens_i_max_A,    cfg->isens_innov_max_A,
+                                 cfg->isens_i_max_hold, cfg->isens_innov_max_A,
                                  cfg->torque_tau_samples, cfg->torque_min_weight, cfg->torque_corr_max,
                                  cfg->torque_clip_Nm,   cfg->torque_w_min_rad_s, cfg->torque_move_min_rad, cfg->torque_accel_max_Nm,
                                  cfg->preload_fast_low, cfg->friction_fast_high, cfg->friction_fast_preload_min,
@@ -125,8 +126,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     dd->tq_lam = TV_R(1.0) - TV_R(1.0) / cfg->torque_tau_samples;
     dd->probe_pre_ref = TV_R(1.0);
     dd->probe_fric_ref = TV_R(1.0);
-
-
+    dd->isens_band_A = cfg->isens_i_max_hold * (tv_real_t)(TV_PAPER_M0_NM / (TV_PAPER_N_GEAR * TV_PAPER_KT_NM_A));
     return TV_OK;
 }
 
@@ -245,6 +245,18 @@ int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T)
     }
     dd->arm_a = a_T;
     dd->arm_inv_b = TV_R(1.0) / b_T;
+    return TV_OK;
+}
+
+int diag_detect_set_hold_current(diag_detect_t *dd, tv_real_t hold_A)
+{
+    if (dd == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!TV_IS_FINITE(hold_A) || !(hold_A > TV_R(0.0))) {
+        return TV_ERR_CONFIG;
+    }
+    dd->isens_band_A = dd->cfg.isens_i_max_hold * hold_A;
     return TV_OK;
 }
 
@@ -675,7 +687,7 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
      * carries the noise that is also in y, which would bias the slope toward 0 and, selected
      * by a band, the mean of y */
     i_pred = current_A - innov_A;
-    if (TV_FABS(i_pred) > dd->cfg.isens_i_max_A || TV_FABS(innov_A) > dd->cfg.isens_innov_max_A) {
+    if (TV_FABS(i_pred) > dd->isens_band_A || TV_FABS(innov_A) > dd->cfg.isens_innov_max_A) {
         return; /* outside the band, or an impact the model placed late: not counted, the window goes on */
     }
     /* in-service window: the sums of the regression of y on (1, i, w) */

@@ -116,7 +116,8 @@
  *       fails, else passes (value: the mean [A]).
  *     IN-SERVICE BIAS: while the bridge drives (since at least DIAG_ISENS_SETTLE periods), the
  *       model is the one in service (not during stop learning) and the estimator corrected with
- *       the current, the samples whose predicted |current| i is at most isens_i_max_A and whose
+ *       the current, the samples whose predicted |current| i is at most isens_i_max_hold times
+ *       the current that holds the model's spring preload (diag_detect_set_hold_current()) and whose
  *       |innovation| is at most isens_innov_max_A (a stop impact; samples beyond either are
  *       skipped, the window goes on) have their current innovation y (measured minus
  *       predicted) regressed on (1, i, w) over DIAG_ISENS_WIN such samples (i is the PREDICTED
@@ -238,9 +239,12 @@ typedef struct {
                                        at most this [-], >= 1; default 4 (with 20, a healthy unit whose
                                        small currents came at one high speed had its back-EMF error
                                        extrapolated into the intercept: README) */
-    tv_real_t isens_i_max_A;      /**< the window takes the driven samples whose predicted |current| is at
-                                       most this [A], > 0; default 0.3 (where a resistance error, however
-                                       adapted, can add little: README) */
+    tv_real_t isens_i_max_hold;   /**< the window takes the driven samples whose predicted |current| is at
+                                       most this fraction of the current that holds the model's spring
+                                       preload, M0 / (n Kt) (diag_detect_set_hold_current()) [-], > 0;
+                                       default 0.8: 0.29 A on the paper's throttle (where a resistance
+                                       error, however adapted, can add little: README), 0.58 A on class b,
+                                       whose currents stay above 0.3 A in 98 % of closed-loop driving */
     tv_real_t isens_innov_max_A;  /**< ... and whose |current innovation| is at most this [A], > 0; default
                                        0.15 (3x the 50 mA offset the check is for, 15 sigma of a healthy
                                        sensor's noise): a stop impact's back-EMF step the model placed a
@@ -331,6 +335,9 @@ typedef struct {
     uint16_t tps_low_n[2]; /**< per track, low samples since the last clean window (freeze value) */
     tv_real_t arm_a;       /**< a_T of the armature over one period (diag_detect_set_armature()) */
     tv_real_t arm_inv_b;   /**< 1 / b_T [ohm]; 0: not set, no bridge check */
+    tv_real_t isens_band_A; /**< the in-service window's band on the predicted |current| [A]: isens_i_max_hold
+                                 times the preload-holding current (diag_detect_set_hold_current(); the
+                                 paper's throttle's until set) */
     tv_real_t i_prev_A;    /**< the current measured at the last call of diag_open_check() (0 when not active) */
     int8_t dead_dir;       /**< the drive direction suspected lost (+1, -1; 0: none) */
     uint8_t probe_req;     /**< 1: a reverse pulse against dead_dir is asked for (diag_probe_direction()) */
@@ -464,6 +471,15 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
  * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (a_T not in [0, 1), b_T not > 0).
  */
 int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T);
+
+/**
+ * The current that holds the model's spring preload, M0 / (n Kt) [A], which scales the current
+ * sensor's in-service band (isens_i_max_hold): a motor with a lower resistance and torque
+ * constant runs at higher currents, and a band fixed in amperes would see almost none of them.
+ * Until set, the paper's throttle's (TV_PAPER_M0_NM / (TV_PAPER_N_GEAR TV_PAPER_KT_NM_A), 0.37 A).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (not finite or not > 0: the band is kept).
+ */
+int diag_detect_set_hold_current(diag_detect_t *dd, tv_real_t hold_A);
 
 /**
  * The reverse pulse the bridge check asks for (see the file comment).
