@@ -541,11 +541,12 @@ static void test_torque_signature(void)
     }
     TV_CHECK_NEAR(dd.friction_fast, 2.0, 1e-3);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P2119));
-    /* not judged: one direction of motion on one side only (collinear regressors) */
+    /* not judged: one direction of motion on one side only (collinear regressors; closing, toward
+     * limp-home: the away reading, tested below, does not run either) */
     diag_init(&d);
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
     for (k = 0; k < 2000; ++k) {
-        feed_synthetic(&dd, &d, &snap, (k % 40), TV_R(0.7), TV_R(0.0), TV_R(1.0), TV_R(1.0));
+        feed_synthetic(&dd, &d, &snap, 40 + (k % 40), TV_R(0.7), TV_R(0.0), TV_R(1.0), TV_R(1.0));
     }
     TV_CHECK(dd.preload_fast == TV_R(0.0) && !diag_pending(&d, DIAG_DTC_P1A02));
     /* not fed: the angle does not move (a blocked plate), or the torque exceeds the clip */
@@ -581,6 +582,93 @@ static void test_torque_signature(void)
         feed_synthetic(&dd, &d, &snap, k, TV_R(0.7), TV_R(0.0), TV_R(1.0), TV_R(1.0));
     }
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
+}
+
+/* Opening moves alone (feed_synthetic()'s first 40 samples of each 80: w = +2 rad/s at phi =
+ * 0.5..0.54 rad, moving away from limp-home) with a spring deficit a: spring and friction both
+ * oppose the move, so the signature cannot split them; the AWAY READING takes the friction they
+ * imply. Per sample y = a s with s = 0.25 + 0.059 phi (0.2795 N m at its mean) and the friction
+ * regressor -0.2 N m, so the implied friction is (1 + f)(1 - a s / 0.2); worked by hand with the
+ * mean of s over the angles 0.500..0.539 rad (0.2806 N m; the weighting moves it by < 0.1 %):
+ *   - spring at 30 % (a = 0.7): 1 - 0.982 = 0.018 < 0.2: P1A02 fails at every check from the
+ *     first with enough weight and confirms at the 5th (value: the reading);
+ *   - spring at 70 % (a = 0.3): 1 - 0.421 = 0.58: no failure (a weaker spring is left to the
+ *     signature and the adapted level);
+ *   - a spring deficit partly taken up by the adapted friction, 1 + f = 0.4 with a = 0.2:
+ *     0.4 (1 - 0.281) = 0.29: no failure (and it is no friction fault);
+ *   - a preload adapted high with the friction low, as on a healthy class-a unit in the chirp
+ *     (1 + m = 1.47, 1 + f = 0.6) and a = 0.6 left: as adapted 0.6 (1 - 0.842) = 0.095, with the
+ *     nominal spring the adapted share m M0 = 0.47 x 0.25 goes back to the friction,
+ *     + 0.6 x 0.1175 / 0.2 = 0.35 (the mean friction regressor is 0.2 N m here): 0.447, the
+ *     larger is judged, no failure; the same with 1 + m = 1 fails (0.095). Samples faster than
+ *     away_w_max_rad_s are not fed: none here (2 rad/s). */
+static void test_away_reading(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    static const struct {
+        double a, pre_rel, fr_rel;
+        double fails_at; /* the reading in the freeze frame; 0: no failure */
+    } cases[] = {{0.7, 1.0, 1.0, 0.018}, {0.3, 1.0, 1.0, 0.0}, {0.2, 1.0, 0.4, 0.0}, {0.6, 1.47, 0.6, 0.0}, {0.6, 1.0, 0.6, 0.095}};
+    size_t c;
+    diag_detect_config_default(&cfg);
+    memset(&snap, 0, sizeof snap);
+    for (c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        int k;
+        int pend = -1;
+        int conf = -1;
+        diag_init(&d);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        for (k = 0; k < 2000; ++k) {
+            feed_synthetic(&dd, &d, &snap, k % 40, (tv_real_t)cases[c].a, TV_R(0.0), (tv_real_t)cases[c].pre_rel,
+                           (tv_real_t)cases[c].fr_rel);
+            if (pend < 0 && diag_pending(&d, DIAG_DTC_P1A02)) {
+                pend = k;
+            }
+            if (conf < 0 && diag_confirmed(&d, DIAG_DTC_P1A02)) {
+                conf = k;
+            }
+        }
+        TV_CHECK(dd.preload_fast == TV_R(0.0)); /* the 2x2 signature never judged: collinear */
+        if (cases[c].fails_at > 0.0) {
+            /* fed from sample 7 (the jam window's 8 angles); the weight 50 (1 - 0.98^n) reaches
+             * torque_min_weight 30 at the 46th feed (sample 52); checks run at samples 9, 19, ...:
+             * the first judged is sample 59, the 5th failing one confirms at 99 */
+            TV_CHECK_EQ_INT(pend, 59);
+            TV_CHECK_EQ_INT(conf, 99);
+            TV_CHECK_NEAR(d.code[DIAG_DTC_P1A02].freeze.value, cases[c].fails_at, 0.002);
+        } else {
+            TV_CHECK(pend < 0 && conf < 0);
+        }
+    }
+    /* the same spring at 30 % with the threshold below its reading (0.018): never fails */
+    cfg.away_friction_min = TV_R(0.01);
+    diag_init(&d);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    {
+        int k;
+        int pended = 0;
+        for (k = 0; k < 2000; ++k) {
+            feed_synthetic(&dd, &d, &snap, k % 40, TV_R(0.7), TV_R(0.0), TV_R(1.0), TV_R(1.0));
+            pended |= diag_pending(&d, DIAG_DTC_P1A02);
+        }
+        TV_CHECK(!pended);
+    }
+    /* faster than away_w_max_rad_s (6 rad/s > 5): not fed to the away reading (the viscous
+     * friction's spread), while the signature's own sums still are */
+    diag_detect_config_default(&cfg);
+    diag_init(&d);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    {
+        int k;
+        for (k = 0; k < 200; ++k) {
+            diag_jam_check(&dd, &d, 0, TV_R(0.0), TV_R(0.5) + TV_R(0.006) * (tv_real_t)k, TV_R(0.0), TV_R(1.0), &snap);
+            diag_torque_feed(&dd, 1, TV_R(6.0), TV_R(0.2), TV_R(0.0), TV_R(0.28), TV_R(0.2));
+        }
+        TV_CHECK(dd.aw_w == TV_R(0.0) && dd.tq_w > TV_R(30.0));
+    }
 }
 
 /* Latencies of one adapted-mechanics fault over a set of runs. */
@@ -779,7 +867,7 @@ static void test_current_sensor_check_timing(void)
         diag_current_sensor_check(&dd, &d, k % 400 != 0, 1, 1, k % 400 == 0 ? TV_R(0.0) : TV_R(0.05) + i, TV_R(0.05), w, &snap);
     }
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
-    /* the band scales with the preload-holding current (diag_detect_set_hold_current()): the same
+    /* the band scales with the preload-holding current (diag_detect_set_preload()): the same
      * offset (a 10 % slope on i) with the current sweeping +-0.5 A. Until set, the paper's band (0.8 x 0.25 / (40 x
      * 0.017) = 0.294 A) counts 29 of every 50 samples, so the 3,000th call pair has not confirmed;
      * with the hold current of class b (0.32 / (40 x 0.011) = 0.727 A: a band of 0.58 A) every
@@ -790,10 +878,10 @@ static void test_current_sensor_check_timing(void)
         TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
         diag_init(&d);
         if (first == 1) {
-            TV_CHECK_EQ_INT(diag_detect_set_hold_current(&dd, TV_R(0.32) / (TV_R(40.0) * TV_R(0.011))), TV_OK);
-            TV_CHECK_EQ_INT(diag_detect_set_hold_current(&dd, TV_R(0.0)), TV_ERR_CONFIG);
-            TV_CHECK_EQ_INT(diag_detect_set_hold_current(&dd, TV_R(-1.0)), TV_ERR_CONFIG);
-            TV_CHECK_EQ_INT(diag_detect_set_hold_current(NULL, TV_R(1.0)), TV_ERR_NULL);
+            TV_CHECK_EQ_INT(diag_detect_set_preload(&dd, TV_R(0.32), TV_R(40.0) * TV_R(0.011)), TV_OK);
+            TV_CHECK_EQ_INT(diag_detect_set_preload(&dd, TV_R(0.0), TV_R(0.44)), TV_ERR_CONFIG);
+            TV_CHECK_EQ_INT(diag_detect_set_preload(&dd, TV_R(0.32), TV_R(-1.0)), TV_ERR_CONFIG);
+            TV_CHECK_EQ_INT(diag_detect_set_preload(NULL, TV_R(0.32), TV_R(0.44)), TV_ERR_NULL);
         }
         for (k = 0; k < 6 * (int)DIAG_ISENS_WIN && confirmed_at < 0; ++k) {
             const tv_real_t i = TV_R(2.0) * isens_i(k);
@@ -1317,6 +1405,7 @@ int main(void)
     TV_TEST_RUN(test_winding_resistance_out_of_range);
     TV_TEST_RUN(test_mechanics_check_timing);
     TV_TEST_RUN(test_torque_signature);
+    TV_TEST_RUN(test_away_reading);
     TV_TEST_RUN(test_friction_and_spring_codes);
     TV_TEST_RUN(test_current_sensor_check_timing);
     TV_TEST_RUN(test_current_sensor_offset_detected);

@@ -52,6 +52,8 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->torque_accel_max_Nm = TV_R(0.3);
     cfg->preload_fast_low = TV_R(0.5);
     cfg->friction_fast_high = TV_R(1.7);
+    cfg->away_friction_min = TV_R(0.2);
+    cfg->away_w_max_rad_s = TV_R(5.0);
     cfg->friction_fast_level_min = TV_R(1.3);
     cfg->preload_fast_friction_max = TV_R(2.0);
     cfg->friction_fast_preload_min = TV_R(0.8);
@@ -99,7 +101,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->torque_tau_samples, cfg->torque_min_weight, cfg->torque_corr_max,
                                  cfg->torque_clip_Nm,   cfg->torque_w_min_rad_s, cfg->torque_move_min_rad, cfg->torque_accel_max_Nm,
                                  cfg->preload_fast_low, cfg->friction_fast_high, cfg->friction_fast_preload_min,
-                                 cfg->friction_fast_level_min, cfg->preload_fast_friction_max,
+                                 cfg->friction_fast_level_min, cfg->preload_fast_friction_max, cfg->away_friction_min, cfg->away_w_max_rad_s,
                                  cfg->probe_trigger, cfg->probe_min_weight, cfg->probe_friction_frac, cfg->probe_move_rad,
                                  cfg->gain_r_max, cfg->gain_mech_min, cfg->gain_kw_max, cfg->gain_w_var_min};
         size_t k;
@@ -126,7 +128,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     dd->tq_lam = TV_R(1.0) - TV_R(1.0) / cfg->torque_tau_samples;
     dd->probe_pre_ref = TV_R(1.0);
     dd->probe_fric_ref = TV_R(1.0);
-    dd->isens_band_A = cfg->isens_i_max_hold * (tv_real_t)(TV_PAPER_M0_NM / (TV_PAPER_N_GEAR * TV_PAPER_KT_NM_A));
+    (void)diag_detect_set_preload(dd, (tv_real_t)TV_PAPER_M0_NM, (tv_real_t)(TV_PAPER_N_GEAR * TV_PAPER_KT_NM_A));
     return TV_OK;
 }
 
@@ -248,15 +250,16 @@ int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T)
     return TV_OK;
 }
 
-int diag_detect_set_hold_current(diag_detect_t *dd, tv_real_t hold_A)
+int diag_detect_set_preload(diag_detect_t *dd, tv_real_t M0_Nm, tv_real_t nKt_Nm_A)
 {
     if (dd == NULL) {
         return TV_ERR_NULL;
     }
-    if (!TV_IS_FINITE(hold_A) || !(hold_A > TV_R(0.0))) {
+    if (!TV_IS_FINITE(M0_Nm) || !TV_IS_FINITE(nKt_Nm_A) || !(M0_Nm > TV_R(0.0)) || !(nKt_Nm_A > TV_R(0.0))) {
         return TV_ERR_CONFIG;
     }
-    dd->isens_band_A = dd->cfg.isens_i_max_hold * hold_A;
+    dd->m0_Nm = M0_Nm;
+    dd->isens_band_A = dd->cfg.isens_i_max_hold * M0_Nm / nKt_Nm_A;
     return TV_OK;
 }
 
@@ -466,6 +469,16 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
     dd->tq_ff = lam * dd->tq_ff + xf * xf;
     dd->tq_sy = lam * dd->tq_sy + spring_Nm * y;
     dd->tq_fy = lam * dd->tq_fy + xf * y;
+    dd->aw_last = 0u;
+    if (w_rad_s * spring_Nm > TV_R(0.0) && TV_FABS(w_rad_s) <= dd->cfg.away_w_max_rad_s) {
+        /* away from limp-home alone: spring and friction both oppose the move (collinear); the
+         * friction it implies with the spring as modelled, (1 + f)(1 + sum(y_f) / sum(F)), y_f the
+         * unexplained torque along the friction (a ratio of sums: F varies little while sliding) */
+        dd->aw_last = 1u;
+        dd->aw_w = lam * dd->aw_w + TV_R(1.0);
+        dd->aw_fs = lam * dd->aw_fs + friction_Nm;
+        dd->aw_fy = lam * dd->aw_fy + (w_rad_s > TV_R(0.0) ? -y : y);
+    }
     if (w_rad_s < TV_R(0.0)) {
         /* closing alone: a weaker spring and more friction both leave a positive torque (collinear),
          * the spring probe tells them apart */
@@ -517,6 +530,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
 {
     tv_real_t pf = TV_R(0.0);
     tv_real_t ff = TV_R(0.0);
+    int judged;
     int fast;
     if (dd == NULL || d == NULL || snap == NULL) {
         return;
@@ -544,9 +558,11 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
     if (mechanics_inhibited(d)) {
         return;
     }
-    fast = dd->tq_age <= DIAG_TORQUE_FRESH && TV_IS_FINITE(friction_sigma) &&
-           friction_sigma <= dd->cfg.friction_sigma_max && TV_IS_FINITE(preload_sigma) &&
-           preload_sigma <= dd->cfg.preload_sigma_max && torque_signature(dd, preload_rel, friction_rel, &pf, &ff);
+    /* the signature (and its away reading) judged: fed lately, the adapted levels settled */
+    judged = dd->tq_age <= DIAG_TORQUE_FRESH && TV_IS_FINITE(friction_sigma) &&
+             friction_sigma <= dd->cfg.friction_sigma_max && TV_IS_FINITE(preload_sigma) &&
+             preload_sigma <= dd->cfg.preload_sigma_max;
+    fast = judged && torque_signature(dd, preload_rel, friction_rel, &pf, &ff);
     if (fast) {
         dd->preload_fast = pf;
         dd->friction_fast = ff;
@@ -585,8 +601,21 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         if (slow) {
             dd->slow_m_run = preload_rel < dd->cfg.preload_low_rel ? (uint16_t)(dd->slow_m_run + (dd->slow_m_run < 0xFFFFu ? 1u : 0u)) : 0u;
         }
+        const int away = judged && dd->aw_last && dd->aw_w >= dd->cfg.torque_min_weight && dd->aw_fs > TV_R(0.0);
+        /* the friction implied with the spring's preload as adapted, (1 + f)(1 + e_a), and as
+         * nominal, which gives the adapted share m M0 back to the friction: the larger of the two
+         * is judged, since the adapted 1 + m may have taken up what the friction lacks (measured:
+         * 1 + m 1.47 with 1 + f 0.60 on a healthy class-a unit in the chirp) or the reverse (1 + m
+         * 0.75 with 1 + f 0.78, class b) */
+        tv_real_t fa = TV_R(1.0);
+        if (away) {
+            const tv_real_t share = (preload_rel - TV_R(1.0)) * dd->m0_Nm * dd->aw_w;
+            fa = friction_rel * (TV_R(1.0) + (dd->aw_fy + (share > TV_R(0.0) ? share : TV_R(0.0))) / dd->aw_fs);
+        }
         if (fast && pf < dd->cfg.preload_fast_low && ff <= dd->cfg.preload_fast_friction_max) {
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, pf);
+        } else if (away && fa < dd->cfg.away_friction_min) {
+            (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, fa);
         } else if (slow && dd->slow_m_run >= dd->cfg.param_slow_hold) {
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, preload_rel);
         } else if (dd->probe_n > 0u) {

@@ -62,6 +62,15 @@
  *     friction_fast_level_min). Judged only when fed within DIAG_TORQUE_FRESH steps, with enough
  *     weight, non-collinear regressors (torque_corr_max), small sigmas of f and m, and no
  *     motor-circuit or jam code (P2100, P2101, P1A01, P2111, P2112) pending or confirmed.
+ *   AWAY READING (behind P1A02, fast): the signature's samples moving away from limp-home at
+ *     most away_w_max_rad_s are also summed alone; there the spring and the friction both oppose
+ *     the move (collinear: the signature does not judge them), and the friction they imply with
+ *     the spring as modelled is (1 + f)(1 + sum(y_f) / sum(F)), y_f the unexplained torque along
+ *     the friction, F the model's friction torque. With the preload at its nominal instead, the
+ *     adapted share m M0 (diag_detect_set_preload()) goes back to the friction; the larger of the
+ *     two readings below away_friction_min fails P1A02 (value: the reading): no unit slides on a
+ *     fifth of its friction, while a spring that no longer opposes the move leaves a reading of
+ *     0 or less. Judged with the signature's conditions while its newest sample is such a one.
  *   SPRING PROBE (behind P1A02, a plate that holds): the signature's closing samples (w < 0: it
  *     is fed above limp-home only, toward it) are also summed alone; there a weaker spring and
  *     more friction both leave a torque away from limp-home (collinear: the signature does not
@@ -117,7 +126,7 @@
  *     IN-SERVICE BIAS: while the bridge drives (since at least DIAG_ISENS_SETTLE periods), the
  *       model is the one in service (not during stop learning) and the estimator corrected with
  *       the current, the samples whose predicted |current| i is at most isens_i_max_hold times
- *       the current that holds the model's spring preload (diag_detect_set_hold_current()) and whose
+ *       the current that holds the model's spring preload (diag_detect_set_preload()) and whose
  *       |innovation| is at most isens_innov_max_A (a stop impact; samples beyond either are
  *       skipped, the window goes on) have their current innovation y (measured minus
  *       predicted) regressed on (1, i, w) over DIAG_ISENS_WIN such samples (i is the PREDICTED
@@ -241,7 +250,7 @@ typedef struct {
                                        extrapolated into the intercept: README) */
     tv_real_t isens_i_max_hold;   /**< the window takes the driven samples whose predicted |current| is at
                                        most this fraction of the current that holds the model's spring
-                                       preload, M0 / (n Kt) (diag_detect_set_hold_current()) [-], > 0;
+                                       preload, M0 / (n Kt) (diag_detect_set_preload()) [-], > 0;
                                        default 0.8: 0.29 A on the paper's throttle (where a resistance
                                        error, however adapted, can add little: README), 0.58 A on class b,
                                        whose currents stay above 0.3 A in 98 % of closed-loop driving */
@@ -275,6 +284,15 @@ typedef struct {
     tv_real_t preload_fast_friction_max; /**< ... while the same signature's friction is at most this [-], > 0;
                                        default 2.0 (1.3 in diag_detect_config_identified(): friction x2 seen in
                                        closing motion alone looks like a weak spring) */
+    tv_real_t away_friction_min;  /**< AWAY READING: the friction that the signature's samples moving away from
+                                       limp-home alone imply with the spring taken as modelled, (1 + f)(1 + e_a),
+                                       below this fails P1A02 [-], > 0; default 0.2 (no unit slides on a fifth
+                                       of its friction; a spring that no longer opposes the move reads 0 or
+                                       less) */
+    tv_real_t away_w_max_rad_s;   /**< ... from the samples whose estimated |velocity| is at most this [rad/s], > 0;
+                                       default 5 (the viscous friction, which the reading does not model, is
+                                       spread +-50 %: on class b unit 1019 in the chirp, Kv at half the
+                                       model's read as a friction of 0.06) */
     tv_real_t friction_fast_high; /**< the signature's friction (1 + f)(1 + e) above this fails P2119 [-], > 1;
                                        default 1.7 (1.5 and 1.6 confirmed it on healthy all_varied units in
                                        the 70 s false-alarm soak: 1002 in chirp, 1010 in chirp and open_steps,
@@ -335,8 +353,10 @@ typedef struct {
     uint16_t tps_low_n[2]; /**< per track, low samples since the last clean window (freeze value) */
     tv_real_t arm_a;       /**< a_T of the armature over one period (diag_detect_set_armature()) */
     tv_real_t arm_inv_b;   /**< 1 / b_T [ohm]; 0: not set, no bridge check */
+    tv_real_t m0_Nm;        /**< the model's spring preload [N m] (diag_detect_set_preload()) */
+    tv_real_t aw_fs;        /**< away reading: decayed sum of the model's friction torque (1 + f) g [N m] */
     tv_real_t isens_band_A; /**< the in-service window's band on the predicted |current| [A]: isens_i_max_hold
-                                 times the preload-holding current (diag_detect_set_hold_current(); the
+                                 times the preload-holding current (diag_detect_set_preload(); the
                                  paper's throttle's until set) */
     tv_real_t i_prev_A;    /**< the current measured at the last call of diag_open_check() (0 when not active) */
     int8_t dead_dir;       /**< the drive direction suspected lost (+1, -1; 0: none) */
@@ -359,6 +379,9 @@ typedef struct {
     uint16_t tq_age;       /**< diag_param_check() calls since the signature was last fed (saturating) */
     uint16_t slow_f_run;   /**< consecutive checks with 1 + f above friction_high_rel */
     uint16_t slow_m_run;   /**< consecutive checks with 1 + m below preload_low_rel */
+    tv_real_t aw_w;        /**< away reading: decayed count of the signature's samples moving away from limp-home, */
+    tv_real_t aw_fy;       /**<   their unexplained torque along the friction (opposing the motion) [N m] */
+    uint8_t aw_last;       /**< 1 when the signature's newest sample was one of them */
     tv_real_t cl_w;        /**< spring probe: decayed count of the signature's closing samples, */
     tv_real_t cl_ss;       /**<   their spring regressor squared, */
     tv_real_t cl_sy;       /**<   spring regressor x unexplained torque */
@@ -473,13 +496,15 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
 int diag_detect_set_armature(diag_detect_t *dd, tv_real_t a_T, tv_real_t b_T);
 
 /**
- * The current that holds the model's spring preload, M0 / (n Kt) [A], which scales the current
- * sensor's in-service band (isens_i_max_hold): a motor with a lower resistance and torque
- * constant runs at higher currents, and a band fixed in amperes would see almost none of them.
- * Until set, the paper's throttle's (TV_PAPER_M0_NM / (TV_PAPER_N_GEAR TV_PAPER_KT_NM_A), 0.37 A).
- * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (not finite or not > 0: the band is kept).
+ * The model's spring preload M0 and motor torque constant at the plate n Kt. The current that
+ * holds the preload, M0 / (n Kt), scales the current sensor's in-service band (isens_i_max_hold):
+ * a motor with a lower resistance and torque constant runs at higher currents, and a band fixed
+ * in amperes would see almost none of them. M0 turns the adapted preload 1 + m into a torque for
+ * the away reading (away_friction_min). Until set, the paper's throttle's (TV_PAPER_M0_NM,
+ * TV_PAPER_N_GEAR TV_PAPER_KT_NM_A: a holding current of 0.37 A).
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_CONFIG (not finite or not > 0: both kept).
  */
-int diag_detect_set_hold_current(diag_detect_t *dd, tv_real_t hold_A);
+int diag_detect_set_preload(diag_detect_t *dd, tv_real_t M0_Nm, tv_real_t nKt_Nm_A);
 
 /**
  * The reverse pulse the bridge check asks for (see the file comment).
