@@ -1298,6 +1298,37 @@ static void test_motor_constant_signature(void)
     sig_case(1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 0, &d);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
     {
+        /* a window begun before the resistance went low is restarted there: 400 healthy samples
+         * (kw = 0), then shorted turns (R reads 0.9, kw = 0.02 A s/rad). Judged over all 500, the
+         * first window's slope would read about 0.004, below gain_kw_max (0.006): P1A04, the
+         * wrong code (measured on class b unit 1001); restarted, the window is the fault's alone
+         * and P1A01 is pending, P1A04 never */
+        static diag_detect_t dd;
+        diag_detect_config_t cfg;
+        diag_snapshot_t snap;
+        int k;
+        diag_detect_config_default(&cfg);
+        diag_detect_config_identified(&cfg);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        diag_init(&d);
+        memset(&snap, 0, sizeof snap);
+        for (k = 0; k < 400 + (int)DIAG_ISENS_SETTLE; ++k) {
+            diag_current_sensor_check(&dd, &d, 1, 1, 1, isens_i(k), TV_R(0.0), isens_w(k), &snap);
+        }
+        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), &snap);
+        TV_CHECK_EQ_INT(dd.isens_n, 0);
+        for (k = 0; k < (int)DIAG_ISENS_WIN; ++k) {
+            const tv_real_t w = isens_w(k);
+            const tv_real_t y = TV_R(0.02) * w;
+            diag_current_sensor_check(&dd, &d, 1, 1, 1, isens_i(k) + y, y, w, &snap);
+        }
+        TV_CHECK_NEAR(dd.isens_kw, 0.02, 1e-4);
+        for (k = 1; k <= 6 * (int)DIAG_PARAM_DECIM; ++k) {
+            diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.1), TV_R(0.02), TV_R(1.1), TV_R(0.01), &snap);
+        }
+        TV_CHECK(diag_pending(&d, DIAG_DTC_P1A01) && !diag_pending(&d, DIAG_DTC_P1A04));
+    }
+    {
         /* friction up alone (1 + f = 1.3 above the identified bound 1.15, the preload at 1) with
          * the apparent resistance low (a cold winding): P2119 is held for gain_hold_checks
          * checks, then fails as before (the slow level's run of 95 checks is long past) */
