@@ -1298,11 +1298,12 @@ static void test_motor_constant_signature(void)
     sig_case(1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 0, &d);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
     {
-        /* a window begun before the resistance went low is restarted there: 400 healthy samples
-         * (kw = 0), then shorted turns (R reads 0.9, kw = 0.02 A s/rad). Judged over all 500, the
-         * first window's slope would read about 0.004, below gain_kw_max (0.006): P1A04, the
-         * wrong code (measured on class b unit 1001); restarted, the window is the fault's alone
-         * and P1A01 is pending, P1A04 never */
+        /* a window begun before the resistance went low gives no back-EMF slope: 400 healthy
+         * samples (kw = 0), then shorted turns (R reads 0.9, kw = 0.02 A s/rad). Over all 500, the
+         * first window's slope reads about 0.004, below gain_kw_max (0.006): P1A04 would be the
+         * wrong code (measured on class b unit 1001); so the slope comes from the next window,
+         * the fault's alone, and P1A01 is pending, P1A04 never. The window itself goes on (its
+         * intercept judges an offset as before) */
         static diag_detect_t dd;
         diag_detect_config_t cfg;
         diag_snapshot_t snap;
@@ -1316,7 +1317,13 @@ static void test_motor_constant_signature(void)
             diag_current_sensor_check(&dd, &d, 1, 1, 1, isens_i(k), TV_R(0.0), isens_w(k), &snap);
         }
         diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), &snap);
-        TV_CHECK_EQ_INT(dd.isens_n, 0);
+        TV_CHECK_EQ_INT(dd.isens_n, 401); /* the settling call not counted */
+        for (k = 401; k < (int)DIAG_ISENS_WIN; ++k) {
+            const tv_real_t w = isens_w(k);
+            const tv_real_t y = TV_R(0.02) * w;
+            diag_current_sensor_check(&dd, &d, 1, 1, 1, isens_i(k) + y, y, w, &snap);
+        }
+        TV_CHECK(dd.isens_n == 0u && !dd.kw_ok); /* the mixed window: complete, no slope taken */
         for (k = 0; k < (int)DIAG_ISENS_WIN; ++k) {
             const tv_real_t w = isens_w(k);
             const tv_real_t y = TV_R(0.02) * w;

@@ -420,15 +420,9 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
         const uint8_t low = dd->cfg.identified && ratio < dd->cfg.gain_r_max ? 1u : 0u;
         if (!low || !dd->r_low) {
             /* out of the signature, or just into it: a back-EMF slope is needed from a window
-             * judged from now on, and the hold of P2119 starts over */
+             * begun from now on (isens_win_low), and the hold of P2119 starts over */
             dd->kw_ok = 0u;
             dd->gain_wait = 0u;
-            if (low) {
-                /* ... and from samples taken from now on: a window begun before the fault carries
-                 * the healthy slope (measured: class b unit 1001, identified, 20 % of the turns
-                 * shorted in the 5 V sine, kw 0.002 from a window mostly before the onset) */
-                dd->isens_n = 0u;
-            }
         }
         dd->r_low = low;
     }
@@ -660,9 +654,14 @@ static diag_result_t isens_window(diag_detect_t *dd, tv_real_t *bias)
         return DIAG_NOT_RUN;
     }
     kw = (cii * cwy - ciw * ciy) / det;
-    if (dd->r_low && cww >= dd->cfg.gain_w_var_min && TV_IS_FINITE(kw)) {
+    if (dd->r_low && dd->isens_win_low && cww >= dd->cfg.gain_w_var_min && TV_IS_FINITE(kw)) {
         /* the back-EMF slope, for the motor-constant signature (diag_param_check()): its spread is
-         * the velocity's, not the intercept's variance inflation */
+         * the velocity's, not the intercept's variance inflation; from a window begun while the
+         * resistance read low, since one begun before the fault carries the healthy slope
+         * (measured: class b unit 1001, identified, 20 % of the turns shorted in the 5 V sine, kw
+         * 0.002 and P1A04 from a window mostly before the onset; restarting the window there
+         * instead cost the offset check a third of its class-a detections, the apparent
+         * resistance of an identified unit with an offset crossing gain_r_max often) */
         dd->isens_kw = kw;
         dd->kw_ok = 1u;
     }
@@ -728,6 +727,7 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
     /* in-service window: the sums of the regression of y on (1, i, w) */
     if (dd->isens_n == 0u) {
         memset(dd->isens_s, 0, sizeof dd->isens_s);
+        dd->isens_win_low = dd->r_low;
     }
     {
         tv_real_t *s = dd->isens_s;

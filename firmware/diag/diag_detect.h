@@ -363,6 +363,7 @@ typedef struct {
     uint8_t probe_req;     /**< 1: a reverse pulse against dead_dir is asked for (diag_probe_direction()) */
     uint8_t isens_off;     /**< consecutive bridge-off periods, saturating at DIAG_ISENS_SETTLE */
     uint8_t isens_on;      /**< consecutive driven periods, saturating at DIAG_ISENS_SETTLE */
+    uint8_t isens_win_low; /**< 1 when the in-service window began while the resistance read low (r_low) */
     uint16_t isens_zn;     /**< samples in the zero check's sum */
     uint16_t isens_n;      /**< samples in the in-service window */
     tv_real_t isens_zsum;  /**< sum of the measured current at rest [A] */
