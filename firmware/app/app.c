@@ -191,12 +191,10 @@ int app_init(app_t *app, const app_config_t *cfg)
         /* refused (not set: no bridge check) only for a degenerate model */
         (void)diag_detect_set_armature(&app->ddet, a_T, b_T);
     }
-    {
-        /* the current sensor's in-service band scales with the current that holds the preload,
-         * the away reading takes the adapted preload's share in N m; refused (the paper's kept)
-         * for a model without preload or torque */
-        (void)diag_detect_set_preload(&app->ddet, app->ekf.model.p.M0_Nm, app->ekf.model.nKt_Nm_A);
-    }
+    /* the current sensor's in-service band scales with the current that holds the preload, the
+     * away reading takes the adapted preload's share in N m; refused (the paper's kept) for a
+     * model without preload or torque */
+    (void)diag_detect_set_preload(&app->ddet, app->ekf.model.p.M0_Nm, app->ekf.model.nKt_Nm_A);
     if (cfg->control.mode == APP_MODE_STOP_LEARN) {
         (void)sl_start(&app->sl, &cfg->stop_learn, &cfg->model); /* validated above */
     }

@@ -285,8 +285,8 @@ typedef struct {
                                        default 2.0 (1.3 in diag_detect_config_identified(): friction x2 seen in
                                        closing motion alone looks like a weak spring) */
     tv_real_t away_friction_min;  /**< AWAY READING: the friction that the signature's samples moving away from
-                                       limp-home alone imply with the spring taken as modelled, (1 + f)(1 + e_a),
-                                       below this fails P1A02 [-], > 0; default 0.2 (no unit slides on a fifth
+                                       limp-home alone imply, the larger of the readings with the preload as
+                                       adapted and as nominal (file comment), below this fails P1A02 [-], > 0; default 0.2 (no unit slides on a fifth
                                        of its friction; a spring that no longer opposes the move reads 0 or
                                        less) */
     tv_real_t away_w_max_rad_s;   /**< ... from the samples whose estimated |velocity| is at most this [rad/s], > 0;
