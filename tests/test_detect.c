@@ -974,12 +974,19 @@ static void feed_closing(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, in
 
 /* One step of a held plate at phi (the jam check's history, then the probe with the nominal
  * class-a model: M0 0.25, c phi, Mc 0.2). Returns the probe's answer, *T the torque asked for. */
-static int probe_step(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, int k, int allowed, tv_real_t phi, tv_real_t pre_rel,
-                      tv_real_t fr_rel, tv_real_t *T)
+static int probe_step_w(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, int k, int allowed, tv_real_t phi, tv_real_t w,
+                        tv_real_t pre_rel, tv_real_t fr_rel, tv_real_t *T)
 {
     snap->t_us = (uint64_t)k * 1000u;
     diag_jam_check(dd, d, 0, TV_R(0.0), phi, TV_R(0.0), TV_R(1.0), snap);
-    return diag_spring_probe(dd, d, allowed, phi, TV_R(0.0), TV_R(0.25), TV_R(0.059) * phi, TV_R(0.2), pre_rel, fr_rel, T, snap);
+    return diag_spring_probe(dd, d, allowed, phi, w, TV_R(0.25), TV_R(0.059) * phi, TV_R(0.2), pre_rel, fr_rel, T, snap);
+}
+
+/* probe_step_w() with the estimated speed 0 */
+static int probe_step(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, int k, int allowed, tv_real_t phi, tv_real_t pre_rel,
+                      tv_real_t fr_rel, tv_real_t *T)
+{
+    return probe_step_w(dd, d, snap, k, allowed, phi, TV_R(0.0), pre_rel, fr_rel, T);
 }
 
 /* A fresh detector suspecting a weak spring: 50 closing samples whose unexplained torque is 0.2
@@ -1129,6 +1136,62 @@ static void test_spring_probe(void)
     }
     TV_CHECK_EQ_INT(n, 1);
     TV_CHECK_NEAR(T, -0.25 - 0.65 * 0.2 - 0.059 * 0.07, 1e-5);
+    /* the rest gate's speed bound (DIAG_PROBE_REST_W_RAD_S 0.5): a still angle whose estimated
+     * speed is 0.3 rad/s toward limp-home (a plate held without the spring the model pulls with)
+     * is at rest, the probe starts at the first still window; at 0.6 rad/s it is not */
+    TV_CHECK_NEAR(DIAG_PROBE_REST_W_RAD_S, 0.5, 1e-12);
+    suspect_spring(&dd, &d, &cfg, &snap);
+    n = 0;
+    for (k = 50; k < 70 && n == 0; ++k) {
+        n = probe_step_w(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(-0.3), TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 1);
+    TV_CHECK_EQ_INT(k, 50 + (int)DIAG_JAM_WINDOW);
+    suspect_spring(&dd, &d, &cfg, &snap);
+    n = 0;
+    for (k = 50; k < 400; ++k) {
+        n += probe_step_w(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(-0.6), TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 0);
+    /* a probe that moves the plate 0.8 mrad (between DIAG_PROBE_UNSURE_FRAC x probe_move_rad =
+     * 0.45 mrad and probe_move_rad) gives no verdict but keeps the suspicion: the next probe
+     * starts once the window is still again; one that then moves 0.4 mrad (below 0.45) holds:
+     * the suspicion ends, no code */
+    TV_CHECK_NEAR(DIAG_PROBE_UNSURE_FRAC, 0.3, 1e-12);
+    suspect_spring(&dd, &d, &cfg, &snap);
+    phi = TV_R(0.35);
+    n = 0;
+    for (k = 50; k < 70 && n == 0; ++k) {
+        n = probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 1);
+    for (n = 0; n < 8; ++n, ++k) { /* 0.1 mrad a step, 8 steps, then still: the probe runs out */
+        phi += TV_R(0.0001);
+        TV_CHECK_EQ_INT(probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T), 1);
+    }
+    while (probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T) && k < 200) {
+        ++k;
+    }
+    /* started at step 57 (the first still window), ended DIAG_PROBE_MAX_STEPS steps later */
+    TV_CHECK_EQ_INT(k, 50 + (int)DIAG_JAM_WINDOW - 1 + (int)DIAG_PROBE_MAX_STEPS);
+    TV_CHECK_EQ_INT(dd.probe_n, 1);
+    TV_CHECK(dd.cl_w >= cfg.probe_min_weight); /* still suspected */
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
+    n = 0;
+    for (++k; k < 300 && n == 0; ++k) {
+        n = probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 1); /* the second probe */
+    for (n = 0; n < 4; ++n, ++k) {
+        phi += TV_R(0.0001);
+        (void)probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T);
+    }
+    while (probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T) && k < 400) {
+        ++k;
+    }
+    TV_CHECK_EQ_INT(dd.probe_n, 0);
+    TV_CHECK(dd.cl_w == TV_R(0.0)); /* held: the suspicion is over */
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
 }
 
 /* The spring probe in closed loop on the nominal unit, seeds 1-3, 3 s runs, the fault at 2.0 s

@@ -786,6 +786,10 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
                 if (++dd->probe_n < DIAG_PROBE_MAX_N) {
                     return 0;
                 }
+            } else if (moved >= DIAG_PROBE_UNSURE_FRAC * dd->cfg.probe_move_rad && ++dd->probe_n < DIAG_PROBE_MAX_N) {
+                /* moved, but short of probe_move_rad: no verdict, the suspicion stays (the next
+                 * probe when the plate rests again) */
+                return 0;
             }
             dd->probe_n = 0u;
             dd->cl_w = TV_R(0.0);
@@ -801,7 +805,7 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
         /* a plate at rest (the jam check's window: the newest angle against the oldest) */
         const tv_real_t newest = dd->phi_hist[(dd->hist_i + DIAG_JAM_WINDOW - 1u) % DIAG_JAM_WINDOW];
         if (dd->hist_n < DIAG_JAM_WINDOW || TV_FABS(newest - dd->phi_hist[dd->hist_i]) >= TV_R(0.2) * dd->cfg.probe_move_rad ||
-            TV_FABS(w_rad_s) >= TV_R(0.05)) {
+            TV_FABS(w_rad_s) >= DIAG_PROBE_REST_W_RAD_S) {
             return 0;
         }
     }

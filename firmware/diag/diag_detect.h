@@ -74,18 +74,19 @@
  *   SPRING PROBE (behind P1A02, a plate that holds): the signature's closing samples (w < 0: it
  *     is fed above limp-home only, toward it) are also summed alone; there a weaker spring and
  *     more friction both leave a torque away from limp-home (collinear: the signature does not
- *     judge them). When their reading
- *     a = sum(s y) / sum(s s) reaches probe_trigger (over probe_min_weight decayed samples) and
- *     the plate then rests (the estimate moved less than 0.2 probe_move_rad over the jam window,
- *     |w| < 0.05 rad/s) where the caller allows it, diag_spring_probe() asks the caller to apply
- *     the model's spring torque M0 (1 + m) sp(phi) + c phi plus probe_friction_frac of its sliding
- *     friction (1 + f) Mc, away from limp-home, for up to DIAG_PROBE_MAX_STEPS steps (1 + m and
- *     1 + f as they were before the suspicion: the fault pulls them while it is seen). A healthy
+ *     judge them). When their reading a = sum(s y) / sum(s s) reaches probe_trigger (over
+ *     probe_min_weight decayed samples) and the plate then rests (the estimate moved less than
+ *     0.2 probe_move_rad over the jam window, |w| < DIAG_PROBE_REST_W_RAD_S) where the caller
+ *     allows it, diag_spring_probe() asks the caller to apply the model's spring torque
+ *     M0 (1 + m) sp(phi) + c phi plus probe_friction_frac of its sliding friction (1 + f) Mc,
+ *     away from limp-home, for up to DIAG_PROBE_MAX_STEPS steps (1 + m and 1 + f as they were
+ *     before the suspicion: the fault pulls them while it is seen). A healthy
  *     plate stays (its static friction is at least its sliding friction), more friction holds it
  *     harder; without its spring it moves: probe_move_rad away from limp-home is one failed
  *     check of P1A02 (value 1 - a) and ends the probe; the next starts when the plate rests again.
- *     A probe that holds gives no verdict and ends the suspicion, as do DIAG_PROBE_MAX_N moving
- *     probes. While probes have moved the plate, diag_param_check() does not pass P1A02.
+ *     Moving DIAG_PROBE_UNSURE_FRAC of that to less than it gives no verdict but keeps the
+ *     suspicion. A probe that holds gives no verdict and ends the suspicion, as do DIAG_PROBE_MAX_N
+ *     moving probes. While probes have moved the plate, diag_param_check() does not pass P1A02.
  *   BRIDGE DIRECTION LOST (P1A03), in the open-winding check's samples (same gate): the terminal
  *     voltage the measured current implies, v = e + (i1 - a_T i0) / b_T (e = n Ke times the
  *     differentiated measured angle, the one the estimator gets: the estimate's velocity can be
@@ -590,6 +591,17 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
 #define DIAG_PROBE_MAX_STEPS 15u
 /** Probes that moved the plate after which the suspicion is dropped (P1A02 confirmed or not). */
 #define DIAG_PROBE_MAX_N 8u
+/** A probe that moved the plate away from limp-home by at least this fraction of probe_move_rad,
+ * but less than probe_move_rad, gives no verdict and keeps the suspicion (it counts toward
+ * DIAG_PROBE_MAX_N); one that moved less is a plate that holds (the suspicion ends). Without its
+ * spring a plate the controller has not yet pulled back can move 1.4-1.5 mrad in a probe (fault
+ * matrix, spring at 30 %: the 5th probe ended the suspicion at 1.47 mrad). */
+#define DIAG_PROBE_UNSURE_FRAC TV_R(0.3)
+/** The estimated speed below which a plate whose angle is still over the jam window counts as at
+ * rest for a probe [rad/s]. A plate held by static friction without the spring the model pulls
+ * with keeps an estimated speed of 0.1-0.3 rad/s toward limp-home (class b, measured), which a
+ * bound of 0.05 rad/s let wait 35-100 ms before each probe. */
+#define DIAG_PROBE_REST_W_RAD_S TV_R(0.5)
 
 /**
  * The spring probe (see the file comment); reports P1A02. Call once per step after the control
