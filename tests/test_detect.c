@@ -671,6 +671,75 @@ static void test_away_reading(void)
     }
 }
 
+/* Feeds n away-moving samples (w = +2 rad/s, the angle rising 2 mrad a sample from phi0) with
+ * unexplained torque y, spring torque 0.28 N m, friction 0.2 N m. Returns the next angle. */
+static tv_real_t feed_away(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, tv_real_t phi0, int n, tv_real_t y)
+{
+    int k;
+    for (k = 0; k < n; ++k, phi0 += TV_R(0.002)) {
+        diag_jam_check(dd, d, 0, TV_R(0.0), phi0, TV_R(0.0), TV_R(1.0), snap);
+        diag_torque_feed(dd, 1, TV_R(2.0), y, TV_R(0.0), TV_R(0.28), TV_R(0.2));
+    }
+    return phi0;
+}
+
+/* DIAG_TORQUE_PAUSE: 300 healthy away-moving steps (fed from the 8th: weight 50 (1 - 0.98^293) = 49.9), then
+ * the feed pauses. After DIAG_TORQUE_PAUSE + 1 steps without a sample, the next sample first
+ * scales the sums from before to torque_min_weight (30) samples, keeping their ratios: weight
+ * 30 x 0.98 + 1 = 30.4 in the signature's and the away reading's sums, the away friction sum 0.2
+ * per sample; after a pause of exactly DIAG_TORQUE_PAUSE steps nothing is rescaled (weight
+ * 0.98 x 49.9 + 1). A broken spring's samples (y = +0.28 along the motion: the spring torque the
+ * model opposes the move with is gone) then bring the away reading 1 + sum(-y) / sum(F) below
+ * away_friction_min 0.2. By hand, after the long pause (sums 30 samples: F 6, y 0) the n-th
+ * sample gives sum F = 10 - 4 x 0.98^n and sum(-y) = -14 (1 - 0.98^n), below 0.2 once
+ * 0.98^n < 6 / 10.8: n = 30; without the rescale (F 0.2 x 49.9) once 0.98^n < 6 / 13.984: n = 42. */
+static void test_torque_pause(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int pause;
+    diag_detect_config_default(&cfg);
+    memset(&snap, 0, sizeof snap);
+    TV_CHECK_EQ_INT((int)DIAG_TORQUE_PAUSE, 250);
+    TV_CHECK_NEAR(cfg.torque_min_weight, 30.0, 1e-9);
+    for (pause = (int)DIAG_TORQUE_PAUSE; pause <= (int)DIAG_TORQUE_PAUSE + 1; ++pause) {
+        const int long_pause = pause > (int)DIAG_TORQUE_PAUSE;
+        const double w0 = 50.0 * (1.0 - pow(0.98, 293.0)); /* fed from the 8th (the jam window's) */
+        tv_real_t phi;
+        int k;
+        int n;
+        diag_init(&d);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        phi = feed_away(&dd, &d, &snap, TV_R(0.2), 300, TV_R(0.0));
+        TV_CHECK_NEAR(dd.aw_w, w0, 1e-3);
+        TV_CHECK_NEAR(dd.tq_w, w0, 1e-3);
+        for (k = 0; k < pause; ++k) { /* no sample: the age grows at every step's check */
+            diag_param_check(&dd, &d, 0, TV_R(0.0), TV_R(1.0), TV_R(0.01), TV_R(1.0), TV_R(0.01), &snap);
+        }
+        /* the jam window must see the plate move again before the next sample counts */
+        for (k = 0; k < (int)DIAG_JAM_WINDOW - 1; ++k, phi += TV_R(0.002)) {
+            diag_jam_check(&dd, &d, 0, TV_R(0.0), phi, TV_R(0.0), TV_R(1.0), &snap);
+        }
+        TV_CHECK_NEAR(dd.aw_w, w0, 1e-3); /* not fed yet */
+        phi = feed_away(&dd, &d, &snap, phi, 1, TV_R(0.28));
+        TV_CHECK_NEAR(dd.aw_w, long_pause ? 30.0 * 0.98 + 1.0 : 0.98 * w0 + 1.0, 1e-3);
+        TV_CHECK_NEAR(dd.tq_w, long_pause ? 30.0 * 0.98 + 1.0 : 0.98 * w0 + 1.0, 1e-3);
+        TV_CHECK_NEAR(dd.aw_fs, TV_R(0.2) * dd.aw_w, 1e-4);
+        /* the away reading with the model's levels (1 + f = 1 + m = 1) */
+        n = 1;
+        while (!(TV_R(1.0) + dd.aw_fy / dd.aw_fs < cfg.away_friction_min) && n < 200) {
+            phi = feed_away(&dd, &d, &snap, phi, 1, TV_R(0.28));
+            ++n;
+        }
+        printf("  pause %d steps: away reading below %.2f after %d samples of a broken spring\n", pause,
+               (double)cfg.away_friction_min, n);
+        TV_CHECK(n < 200);
+        TV_CHECK_EQ_INT(n, long_pause ? 30 : 42);
+    }
+}
+
 /* Latencies of one adapted-mechanics fault over a set of runs. */
 typedef struct {
     int detected;
@@ -1507,6 +1576,7 @@ int main(void)
     TV_TEST_RUN(test_mechanics_check_timing);
     TV_TEST_RUN(test_torque_signature);
     TV_TEST_RUN(test_away_reading);
+    TV_TEST_RUN(test_torque_pause);
     TV_TEST_RUN(test_friction_and_spring_codes);
     TV_TEST_RUN(test_current_sensor_check_timing);
     TV_TEST_RUN(test_current_sensor_offset_detected);

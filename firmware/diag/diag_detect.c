@@ -58,7 +58,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->preload_fast_friction_max = TV_R(2.0);
     cfg->friction_fast_preload_min = TV_R(0.8);
     cfg->probe_trigger = TV_R(0.1);
-    cfg->probe_min_weight = TV_R(15.0);
+    cfg->probe_min_weight = TV_R(8.0);
     cfg->probe_friction_frac = TV_R(0.65);
     cfg->probe_move_rad = TV_R(0.0015);
     cfg->param_slow_hold = 95u;
@@ -436,6 +436,28 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
     }
 }
 
+/* The torque feed resumes after a pause: the sums from before it count as at most
+ * torque_min_weight samples (the unit may have changed meanwhile; the reading stays judged). */
+static void torque_pause_rescale(diag_detect_t *dd)
+{
+    const tv_real_t wmin = dd->cfg.torque_min_weight;
+    if (dd->tq_w > wmin) {
+        const tv_real_t g = wmin / dd->tq_w;
+        dd->tq_w = wmin;
+        dd->tq_ss *= g;
+        dd->tq_sf *= g;
+        dd->tq_ff *= g;
+        dd->tq_sy *= g;
+        dd->tq_fy *= g;
+    }
+    if (dd->aw_w > wmin) {
+        const tv_real_t g = wmin / dd->aw_w;
+        dd->aw_w = wmin;
+        dd->aw_fs *= g;
+        dd->aw_fy *= g;
+    }
+}
+
 void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
                       tv_real_t spring_Nm, tv_real_t friction_Nm)
 {
@@ -459,6 +481,9 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
         }
     }
     y = torque_Nm;
+    if (dd->tq_age > DIAG_TORQUE_PAUSE) {
+        torque_pause_rescale(dd);
+    }
     dd->tq_age = 0u;
     /* the friction regressor: the model's friction torque, opposing the motion */
     xf = w_rad_s > TV_R(0.0) ? -friction_Nm : friction_Nm;

@@ -198,6 +198,11 @@ extern "C" {
 /** The torque signature is judged only when it was fed within this many steps (a stale
  *  signature, e.g. of the instant a plate was blocked, judges nothing). */
 #define DIAG_TORQUE_FRESH 60u
+/** Steps without a torque-signature sample after which the next sample first rescales the sums
+ * from before (the signature's and the away reading's) to at most torque_min_weight samples:
+ * evidence from before a pause (a hold, a bridge-off phase, the slow sine's reversal) no longer
+ * outweighs what the plate does now. */
+#define DIAG_TORQUE_PAUSE 250u
 
 /** Detector thresholds (diag_detect_config_default()). */
 typedef struct {
@@ -308,11 +313,13 @@ typedef struct {
                                        measured, class b unit 1010 of all_varied in chirp and the 12 V sine) */
     tv_real_t probe_trigger;      /**< SPRING PROBE: the closing-only reading a = sum(s y) / sum(s s) (s the
                                        model's spring torque, y the unexplained torque, closing samples of the
-                                       signature) from which a held plate is probed [-], > 0; default 0.4 */
+                                       signature) from which a held plate is probed [-], > 0; default 0.1 */
     tv_real_t probe_min_weight;   /**< ... once the closing samples' weight (decayed count) is at least this
-                                       [samples], > 0; default 15 (a full-range step feeds some 30) */
+                                       [samples], > 0; default 8 (a full-range step feeds some 30 at
+                                       class a's slew; class b's faster slew some 10, which 15 missed:
+                                       all_varied unit 1001, closed_steps, 9.96 after 1.2 -> 0.2 rad) */
     tv_real_t probe_friction_frac; /**< the probe's torque above the model's spring, as a fraction of the
-                                       adapted sliding friction (1 + f) Mc [-], (0, 1); default 0.5 */
+                                       adapted sliding friction (1 + f) Mc [-], (0, 1); default 0.65 */
     tv_real_t probe_move_rad;     /**< the plate's motion away from limp-home within a probe that fails
                                        P1A02 [rad], > 0; default 0.0015 */
     uint16_t param_slow_hold;     /**< the adapted levels (1 + f, 1 + m) fail only once beyond their bounds for
