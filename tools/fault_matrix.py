@@ -16,7 +16,14 @@ Definitions (per run of an injected fault with onset t0):
              on the first code, so a wrong first code is a mis-isolation even if the right one
              follows);
   confusion  injected class (row) x class of that first code, "none" when no code confirmed;
-  early      a code confirmed before t0 (a false alarm before the fault existed).
+  early      a code confirmed before t0 (a false alarm before the fault existed);
+  condition  for jam and winding_open, whose targets count from a condition rather than the
+             onset, the time tc the plant's truth first met it (column "t_condition_s",
+             host_sim/sim/sim_fault_cond.h: a jammed plate stalled >= 0.035 rad from its target;
+             the bridge driving >= 3 V across an open winding); runs that never met it (a plate
+             jammed at its target, a sticky plate that still follows) are counted apart; the
+             delay from the condition is the first right code's time - tc (0 if it came first),
+             "within_target_of_condition" the runs within CONDITION_TARGET_S of it.
 Per population section (column "section") the same tallies, per class and over all classes
 ("all/<section>"). Healthy runs (injected = healthy) and the soak count false alarms: runs with any confirmed code.
 For the faults that change an adapted parameter (winding resistance, friction, spring preload) the
@@ -70,9 +77,16 @@ PARAM_OF_CLASS = {
 }
 
 
+# issue 12's targets that count from the condition: confirmed within this of it [s]
+CONDITION_TARGET_S = {"jam": 0.1, "winding_open": 0.01}
+
+
 class Tally:
     def __init__(self):
         self.runs = self.detected = self.isolated = self.any_code = self.early = 0
+        self.cond_runs = 0
+        self.cond_delays = []
+        self.cond_target = None
         self.delays = []
         self.param_err = []
         self.observed = []
@@ -89,6 +103,11 @@ class Tally:
             self.observed.append(res["observed"])
         if res.get("param_err") is not None:
             self.param_err.append(res["param_err"])
+        if res.get("cond_met"):
+            self.cond_runs += 1
+            self.cond_target = res["cond_target"]
+            if res["cond_delay"] is not None:
+                self.cond_delays.append(res["cond_delay"])
 
     def merge(self, other):
         """Add another tally's runs (not its parameter errors: those of different classes are
@@ -100,6 +119,8 @@ class Tally:
         self.early += other.early
         self.delays += other.delays
         self.observed += other.observed
+        self.cond_runs += other.cond_runs
+        self.cond_delays += other.cond_delays
 
     def json(self):
         d = {
@@ -117,6 +138,14 @@ class Tally:
         if self.param_err:
             d["param_rel_err_median"] = pct(self.param_err, 50)
             d["param_rel_err_p95"] = pct(self.param_err, 95)
+        if self.cond_runs:
+            d["condition_runs"] = self.cond_runs
+            d["condition_detected"] = len(self.cond_delays)
+            d["delay_from_condition_median_s"] = pct(self.cond_delays, 50) if self.cond_delays else None
+            d["delay_from_condition_p95_s"] = pct(self.cond_delays, 95) if self.cond_delays else None
+            if self.cond_target is not None:
+                d["condition_target_s"] = self.cond_target
+                d["within_target_of_condition"] = sum(1 for x in self.cond_delays if x <= self.cond_target + 1e-9)
         return d
 
 
@@ -135,7 +164,12 @@ def judge(row):
     after = [c for c in codes if c[0] >= t0 - 1e-9]
     right = [c for c in after if c[2] == cls]
     first_class = after[0][2] if after else "none"
+    tc = float(row["t_condition_s"]) if row.get("t_condition_s") not in (None, "") else float("nan")
+    cond_met = cls in CONDITION_TARGET_S and math.isfinite(tc)
     return (kind, cls), {
+        "cond_met": cond_met,
+        "cond_target": CONDITION_TARGET_S.get(cls),
+        "cond_delay": max(0.0, right[0][0] - tc) if (cond_met and right) else None,
         "detected": bool(right),
         "delay": right[0][0] - t0 if right else None,
         "isolated": bool(after) and after[0][2] == cls,
@@ -239,6 +273,19 @@ def main():
         lines.append("| %s | %s | %d | %s | %.0f %% | %s | %s | %.0f %% | %s |" % (
             spec, c, j["runs"], obs_txt, 100 * j["detection_rate"], fmt(j["delay_median_s"], 1e3), fmt(j["delay_p95_s"], 1e3),
             100 * j["isolation_rate"], perr))
+    lines += ["", "## Delay from the observable condition (jam: stalled >= 0.035 rad from the target; open winding: "
+              "the bridge drives >= 3 V)", "",
+              "| fault | runs | condition met | detected of those | delay from it median [ms] | p95 [ms] | within the target |",
+              "|---|---|---|---|---|---|---|"]
+    for (c, spec) in sorted(per_spec):
+        j = per_spec[(c, spec)].json()
+        if c not in CONDITION_TARGET_S:
+            continue
+        lines.append("| %s | %d | %d | %d | %s | %s | %s |" % (
+            spec, j["runs"], j.get("condition_runs", 0), j.get("condition_detected", 0),
+            fmt(j.get("delay_from_condition_median_s"), 1e3), fmt(j.get("delay_from_condition_p95_s"), 1e3),
+            "-" if "within_target_of_condition" not in j else "%d (<= %.0f ms)" % (
+                j["within_target_of_condition"], 1e3 * j["condition_target_s"])))
     lines += ["", "## Per fault class and scenario: detected / isolated", "",
               "| class | " + " | ".join(sorted(scenarios)) + " |", "|---|" + "---|" * len(scenarios)]
     for c in sorted(per_class):

@@ -43,6 +43,7 @@
 #include "params.h"
 #include "plant_draw.h"
 #include "sim.h"
+#include "sim_fault_cond.h"
 #include "sim_unit.h"
 #include "tv_status.h"
 
@@ -356,7 +357,8 @@ static void usage(FILE *f)
             "                    learning routine (scenario stop_learn, firmware/app/stop_learn.h) and\n"
             "                    its filter uses the learned stops, as an ECU with its stored values\n"
             "  --json PATH       summary (default out/population/summary.json)\n"
-            "  --runs-csv PATH   also one line per run\n"
+            "  --runs-csv PATH   also one line per run (t_condition_s: when a jam or an open winding\n"
+            "                    first became observable, host_sim/sim/sim_fault_cond.h; nan: never)\n"
             "  --params-out DIR  also write each unit's filter parameter file (after stop learning)\n"
             "                    as DIR/<section>_<ID>.params (section stops, all, adapted,\n"
             "                    identified), headed by the host_sim command that reruns one of\n"
@@ -655,7 +657,7 @@ int main(int argc, char **argv)
         }
         fprintf(csv, "section,unit,class,scenario,seed,rmse_filter_rad_s,rmse_diff_rad_s,ratio,nees_avg,nees_window_max,"
                      "consistency_flagged,faults,dtc_confirmed,dtc_pending,dtc_first_s,duration_s,r_est_ohm,r_true_ohm,friction_rel,friction_rel_true,preload_rel,"
-                     "preload_rel_true,contact_k,contact_exponent,contact_alpha_s_rad,impacts_learned,injected,dtc_codes\n");
+                     "preload_rel_true,contact_k,contact_exponent,contact_alpha_s_rad,impacts_learned,t_condition_s,injected,dtc_codes\n");
     }
 
     /* the nominal unit of class A, the paper's experiment, seed 1, with the same --params */
@@ -734,6 +736,7 @@ int main(int argc, char **argv)
                 for (s = first_seed; s < first_seed + seeds; ++s) {
                     sim_options_t opt;
                     sim_result_t r;
+                    sim_cond_t cond;
                     pop_run_t *run;
                     sim_options_default(&opt);
                     opt.scenario = (sim_scenario_t)k;
@@ -743,6 +746,9 @@ int main(int argc, char **argv)
                     opt.plant = &pc;
                     opt.app = &ac;
                     opt.faults = &s_faults;
+                    sim_cond_init(&cond, &pc, &s_faults);
+                    opt.row_fn = sim_cond_row;
+                    opt.row_user = &cond;
                     rc = sim_run(&opt, &r);
                     if (rc != TV_OK) {
                         fprintf(stderr, "%s: unit %llu, %s, seed %llu: %s\n", s_prog, (unsigned long long)unit,
@@ -784,8 +790,8 @@ int main(int argc, char **argv)
                                 (int)r.faults, (unsigned long)run->dtc, (unsigned long)run->dtc_pending, run->dtc_first_s);
                         fprintf(csv, "%.4f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,", r.duration_s - opt.warmup_s, r.r_est_ohm,
                                 r.r_true_ohm, r.friction_rel, r.friction_rel_true, r.preload_rel, r.preload_rel_true);
-                        fprintf(csv, "%.6g,%.6g,%.6g,%lu,", r.contact_k, r.contact_exponent, r.contact_alpha_s_rad,
-                                (unsigned long)r.impact_learned);
+                        fprintf(csv, "%.6g,%.6g,%.6g,%lu,%.4f,", r.contact_k, r.contact_exponent, r.contact_alpha_s_rad,
+                                (unsigned long)r.impact_learned, sim_cond_time(&cond));
                         write_injected(csv);
                         write_dtc_codes(csv, &r);
                     }
