@@ -66,7 +66,8 @@ void sim_cond_row(const sim_row_t *row, void *user)
     }
     if (c->kind == PLANT_FAULT_WINDING_OPEN) {
         const double emf = c->pc.n_gear * c->pc.Ke_V_s_rad * row->truth[TVM_W];
-        if (row->bridge_enable && fabs(row->u_applied_V - emf) >= SIM_COND_OPEN_V) {
+        if (row->bridge_enable && fabs(row->u_applied_V) >= SIM_COND_OPEN_V &&
+            fabs(row->u_applied_V - emf) >= SIM_COND_OPEN_V) {
             c->t_s = row->t_s;
         }
         return;

@@ -14,8 +14,11 @@
  *     would move), the stall lasting SIM_COND_STALL_S or until a code is confirmed during it;
  *     the condition's time is the stall's start (tools/jam_runs.py applies the same rule to traces);
  *   - winding_open ("open winding: <= 10 ms"): the first sample at or after the onset at which the
- *     bridge drives |u - n Ke w| >= SIM_COND_OPEN_V across the winding (the plant's true velocity:
- *     a healthy winding would carry (3 V) / R of current).
+ *     bridge applies |u| >= SIM_COND_OPEN_V and the back-EMF leaves |u - n Ke w| >= SIM_COND_OPEN_V
+ *     across the winding (w the plant's true velocity: a healthy winding would carry at least
+ *     3 V / R). A winding that only the back-EMF would drive (the plate swept by its spring with the
+ *     bridge near 0 V) does not count: the detector (P2100) asks for both as well, since a velocity
+ *     estimate that is off against a stop could make a small voltage look large.
  * Other fault kinds have no such condition (their delay counts from the onset).
  */
 #ifndef SIM_FAULT_COND_H
