@@ -14,7 +14,9 @@ would move), the stall lasting 100 ms or until a code's action ends it. Per scen
 the runs stalled, those never stalled (a plate jammed at its target, or a sticky plate that
 still follows: not what the target asks for), detected (a jam code confirmed), within 100 ms of
 the stall, the delay from the stall (median, p95) and the runs whose first code after the onset
-is not a jam code; -v lists the runs missed, slow or mis-isolated.
+is not a jam code; -v lists the runs missed, slow or mis-isolated. The fault matrix computes the
+same stall time in population itself (host_sim/sim/sim_fault_cond.h, the runs CSV's
+t_condition_s, summary.json's delay_from_condition_*); this tool gives the traces and the listing.
 
 usage: tools/jam_runs.py BIN_DIR RUNS_CSV PARAMS_DIR SPEC ONSET DURATION WORK_DIR [-v]
   e.g. population --plants 10 --seeds 1 --sections stops,all \
