@@ -146,6 +146,14 @@ def real(d, pop):
     # drives, and P2100 confirms within 10 ms of it
     row = list(csv.DictReader(open(os.path.join(d, "runs", "tps2_offset:-1.csv"))))[0]
     check(row["t_condition_s"] == "nan", "no condition for a track offset (%s)" % row["t_condition_s"])
+    # a spring broken at 2.0 s in limp_home, whose bridge is off from 1.8 s to 2.4 s: the condition
+    # (the bridge drives) is met when the drive resumes, at 2.4 s
+    path = os.path.join(d, "c_spring.csv")
+    subprocess.run([pop, "--plants", "1", "--seeds", "1", "--sections", "stops", "--scenarios", "limp_home", "--duration", "3",
+                    "--fault", "spring_weak:0@2.0", "--runs-csv", path, "--json", os.path.join(d, "c.json")],
+                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    tc = float(list(csv.DictReader(open(path)))[0]["t_condition_s"])
+    check(abs(tc - 2.4) < 1.5e-3, "spring broken with the bridge off: condition when the drive resumes (%s s)" % tc)
     for fault, code, target in (("jam:10", ("P2111", "P2112"), 0.1), ("winding_open", ("P2100",), 0.01)):
         path = os.path.join(d, "c_%s.csv" % fault.split(":")[0])
         subprocess.run([pop, "--plants", "1", "--seeds", "1", "--sections", "stops", "--scenarios", "drive", "--duration", "3",

@@ -10,9 +10,10 @@
 # x noise seeds, the fault injected at ONSET s into runs of DURATION s; the same runs
 # healthy; and the long healthy soak (tools/run_healthy_soak.sh). tools/fault_matrix.py writes
 # out/fault_matrix/summary.json (per class: detection_rate, delay_median_s, delay_p95_s,
-# isolation_rate; for jam and winding_open also the delay from the observable condition their
-# targets count from, delay_from_condition_median_s ..., host_sim/sim/sim_fault_cond.h; overall
-# false_alarms_healthy, healthy_seconds, confusion_matrix) and matrix.md.
+# isolation_rate; for jam, winding_open and spring_weak also the delay from the observable
+# condition their targets count from, delay_from_condition_median_s ...,
+# host_sim/sim/sim_fault_cond.h; overall false_alarms_healthy, healthy_seconds,
+# confusion_matrix) and matrix.md.
 #
 #   usage: tools/run_fault_matrix.sh [--quick | --full] [--plants N] [--seeds S] [--soak-duration S]
 #                                    [--current-duration S] [--no-soak | --soak-from JSON] [--jobs J]
@@ -51,7 +52,7 @@ while (($#)); do
     --no-soak) soak=0 ;;
     --soak-from) soak=0; soak_from=$2; shift ;;
     --jobs) jobs=$2; shift ;;
-    -h|--help) sed -n '2,30p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
     *) echo "run_fault_matrix.sh: unknown option '$1' (--help)" >&2; exit 2 ;;
   esac
   shift

@@ -20,7 +20,8 @@ void sim_cond_init(sim_cond_t *c, const plant_config_t *pc, const plant_fault_li
         return;
     }
     for (k = 0u; k < faults->n && k < PLANT_FAULT_LIST_MAX; ++k) {
-        if (faults->spec[k].kind == PLANT_FAULT_JAM || faults->spec[k].kind == PLANT_FAULT_WINDING_OPEN) {
+        if (faults->spec[k].kind == PLANT_FAULT_JAM || faults->spec[k].kind == PLANT_FAULT_WINDING_OPEN ||
+            faults->spec[k].kind == PLANT_FAULT_SPRING_WEAK) {
             c->kind = faults->spec[k].kind;
             c->onset_s = faults->spec[k].t_s;
             return;
@@ -62,6 +63,12 @@ void sim_cond_row(const sim_row_t *row, void *user)
     ++c->n;
     c->dtc_prev = row->dtc_confirmed;
     if (c->kind == PLANT_FAULT_KIND_COUNT || !isnan(c->t_s) || row->t_s < c->onset_s - 1e-9) {
+        return;
+    }
+    if (c->kind == PLANT_FAULT_SPRING_WEAK) {
+        if (row->bridge_enable) {
+            c->t_s = row->t_s;
+        }
         return;
     }
     if (c->kind == PLANT_FAULT_WINDING_OPEN) {

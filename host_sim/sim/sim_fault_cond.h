@@ -3,7 +3,7 @@
  * @brief When an injected fault first becomes observable in the way issue 12's targets phrase it,
  *        found in the plant's truth (a row callback of sim_run()).
  *
- * Two targets count their delay from a condition, not from the onset:
+ * Three targets count their delay from a condition, not from the onset:
  *   - jam ("jam or stuck plate, >= 0.035 rad from target: confirmed <= 100 ms"): the jammed plate
  *     is first STALLED >= SIM_COND_JAM_ERR_RAD from its target: the bridge drives, the plate moved
  *     < SIM_COND_STILL_RAD over SIM_COND_STILL_N samples, and the target is that far away
@@ -19,6 +19,10 @@
  *     3 V / R). A winding that only the back-EMF would drive (the plate swept by its spring with the
  *     bridge near 0 V) does not count: the detector (P2100) asks for both as well, since a velocity
  *     estimate that is off against a stop could make a small voltage look large.
+ *   - spring_weak ("spring break during normal operation: <= 300 ms"): the first sample at or after
+ *     the onset at which the bridge drives (a spring that breaks while the bridge is off, the
+ *     plate resting at limp-home, changes nothing until the actuator operates again; with the
+ *     bridge on at the onset the condition is the onset).
  * Other fault kinds have no such condition (their delay counts from the onset).
  */
 #ifndef SIM_FAULT_COND_H
@@ -48,8 +52,8 @@ typedef struct {
 } sim_cond_t;
 
 /**
- * Set up for one run: the first fault of faults that has a condition (jam, winding_open) is
- * tracked; none (or faults NULL): sim_cond_time() stays NaN.
+ * Set up for one run: the first fault of faults that has a condition (jam, winding_open,
+ * spring_weak) is tracked; none (or faults NULL): sim_cond_time() stays NaN.
  * @param pc the unit's healthy plant configuration (not NULL)
  */
 void sim_cond_init(sim_cond_t *c, const plant_config_t *pc, const plant_fault_list_t *faults);
