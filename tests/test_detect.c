@@ -1208,7 +1208,7 @@ static void test_spring_probe(void)
     /* the rest gate's speed bound (DIAG_PROBE_REST_W_RAD_S 0.5): a still angle whose estimated
      * speed is 0.3 rad/s toward limp-home (a plate held without the spring the model pulls with)
      * is at rest, the probe starts at the first still window; at 0.6 rad/s it is not */
-    TV_CHECK_NEAR(DIAG_PROBE_REST_W_RAD_S, 0.5, 1e-12);
+    TV_CHECK_NEAR(DIAG_PROBE_REST_W_RAD_S, 0.5, 1e-6);
     suspect_spring(&dd, &d, &cfg, &snap);
     n = 0;
     for (k = 50; k < 70 && n == 0; ++k) {
@@ -1226,7 +1226,7 @@ static void test_spring_probe(void)
      * 0.45 mrad and probe_move_rad) gives no verdict but keeps the suspicion: the next probe
      * starts once the window is still again; one that then moves 0.4 mrad (below 0.45) holds:
      * the suspicion ends, no code */
-    TV_CHECK_NEAR(DIAG_PROBE_UNSURE_FRAC, 0.3, 1e-12);
+    TV_CHECK_NEAR(DIAG_PROBE_UNSURE_FRAC, 0.3, 1e-6);
     suspect_spring(&dd, &d, &cfg, &snap);
     phi = TV_R(0.35);
     n = 0;
