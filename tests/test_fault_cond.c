@@ -38,6 +38,20 @@ static void row_at(sim_cond_t *c, int k, double phi, double w, double u, int bri
     sim_cond_row(&r, c);
 }
 
+/* A fault of kind at 0.1 s, then rows 0..400 ms with constant values: the condition's time. */
+static double constant_run(plant_fault_kind_t kind, double phi, double w, double u, int bridge, double target)
+{
+    sim_cond_t c;
+    plant_fault_list_t l;
+    int k;
+    faults_one(&l, kind, 0.1);
+    sim_cond_init(&c, &s_pc, &l);
+    for (k = 0; k <= 400; ++k) {
+        row_at(&c, k, phi, w, u, bridge, target, 0u);
+    }
+    return sim_cond_time(&c);
+}
+
 /* No fault, or one without a condition (a track offset): never met. */
 static void test_no_condition(void)
 {
@@ -94,23 +108,11 @@ static void test_jam_closed_loop(void)
             TV_CHECK_NEAR(met_at, 0.188, 1e-9);
         }
     }
-    sim_cond_init(&c, &s_pc, &l);
-    for (k = 0; k <= 400; ++k) {
-        row_at(&c, k, 1.29, 0.0, 6.0, 1, 1.5, 0u);
-    }
-    TV_CHECK(isnan(sim_cond_time(&c)));
+    TV_CHECK(isnan(constant_run(PLANT_FAULT_JAM, 1.29, 0.0, 6.0, 1, 1.5)));
     /* a stall before the onset does not count: the plate still from 0, onset 0.1 s -> from 0.1 s */
-    sim_cond_init(&c, &s_pc, &l);
-    for (k = 0; k <= 400; ++k) {
-        row_at(&c, k, 0.2, 0.0, 6.0, 1, 0.5, 0u);
-    }
-    TV_CHECK_NEAR(sim_cond_time(&c), 0.1, 1e-9);
+    TV_CHECK_NEAR(constant_run(PLANT_FAULT_JAM, 0.2, 0.0, 6.0, 1, 0.5), 0.1, 1e-9);
     /* the bridge off: no demand */
-    sim_cond_init(&c, &s_pc, &l);
-    for (k = 0; k <= 400; ++k) {
-        row_at(&c, k, 0.2, 0.0, 0.0, 0, 0.5, 0u);
-    }
-    TV_CHECK(isnan(sim_cond_time(&c)));
+    TV_CHECK(isnan(constant_run(PLANT_FAULT_JAM, 0.2, 0.0, 0.0, 0, 0.5)));
 }
 
 /* Jam, open loop (target NaN), plate held at 0.2 rad (above limp-home: pushing open, the springs
@@ -123,21 +125,10 @@ static void test_jam_open_loop(void)
 {
     static const double u[4] = {3.5, 3.6, -1.8, -2.0};
     static const int met[4] = {0, 1, 0, 1};
-    sim_cond_t c;
-    plant_fault_list_t l;
     int v;
-    int k;
-    faults_one(&l, PLANT_FAULT_JAM, 0.1);
     for (v = 0; v < 4; ++v) {
-        sim_cond_init(&c, &s_pc, &l);
-        for (k = 0; k <= 400; ++k) {
-            row_at(&c, k, 0.2, 0.0, u[v], 1, (double)NAN, 0u);
-        }
-        if (met[v]) {
-            TV_CHECK_NEAR(sim_cond_time(&c), 0.1, 1e-9);
-        } else {
-            TV_CHECK(isnan(sim_cond_time(&c)));
-        }
+        const double t = constant_run(PLANT_FAULT_JAM, 0.2, 0.0, u[v], 1, (double)NAN);
+        TV_CHECK(met[v] ? fabs(t - 0.1) < 1e-9 : isnan(t));
     }
 }
 
@@ -150,21 +141,10 @@ static void test_winding_open(void)
     static const double w[4] = {-5.0, 0.1, 0.1, 0.1};
     static const int bridge[4] = {1, 1, 1, 0};
     static const int met[4] = {0, 0, 1, 0};
-    sim_cond_t c;
-    plant_fault_list_t l;
     int v;
-    int k;
-    faults_one(&l, PLANT_FAULT_WINDING_OPEN, 0.1);
     for (v = 0; v < 4; ++v) {
-        sim_cond_init(&c, &s_pc, &l);
-        for (k = 0; k <= 200; ++k) {
-            row_at(&c, k, 0.3, w[v], u[v], bridge[v], (double)NAN, 0u);
-        }
-        if (met[v]) {
-            TV_CHECK_NEAR(sim_cond_time(&c), 0.1, 1e-9);
-        } else {
-            TV_CHECK(isnan(sim_cond_time(&c)));
-        }
+        const double t = constant_run(PLANT_FAULT_WINDING_OPEN, 0.3, w[v], u[v], bridge[v], (double)NAN);
+        TV_CHECK(met[v] ? fabs(t - 0.1) < 1e-9 : isnan(t));
     }
 }
 
