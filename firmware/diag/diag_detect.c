@@ -24,6 +24,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->jam_still_rad = TV_R(0.002);
     cfg->jam_limp_margin_rad = TV_R(0.05);
     cfg->open_u_min_V = TV_R(3.0);
+    cfg->open_emf_min_V = TV_R(2.5);
     cfg->open_i_max_A = TV_R(0.15);
     cfg->open_di_max_A = TV_R(0.05);
     cfg->r_high_frac = TV_R(1.35);
@@ -91,7 +92,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     {
         const tv_real_t all[] = {cfg->tps_disagree_rad, cfg->tps_vote_frac, cfg->jam_error_rad, cfg->jam_u_min_V,
                                  cfg->jam_break_factor, cfg->jam_still_rad, cfg->jam_limp_margin_rad,
-                                 cfg->open_u_min_V,     cfg->open_i_max_A,     cfg->open_di_max_A,
+                                 cfg->open_u_min_V,     cfg->open_emf_min_V,   cfg->open_i_max_A,     cfg->open_di_max_A,
                                  cfg->r_high_frac,      cfg->r_low_frac,    cfg->r_sigma_max_frac,
                                  cfg->r_excite_A,       cfg->friction_high_rel, cfg->friction_sigma_max,
                                  cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
@@ -286,13 +287,13 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
         return;
     }
     i0 = dd->i_prev_A;
-    dd->i_prev_A = TV_R(0.0);
     if (!active || !TV_IS_FINITE(u_V) || !TV_IS_FINITE(emf_V) || !TV_IS_FINITE(current_A)) {
+        dd->i_prev_A = TV_R(0.0);
         return;
     }
     dd->i_prev_A = current_A;
     au = TV_FABS(u_V);
-    if (au < dd->cfg.open_u_min_V || TV_FABS(u_V - emf_V) < dd->cfg.open_u_min_V) {
+    if (au < dd->cfg.open_u_min_V || TV_FABS(u_V - emf_V) < dd->cfg.open_emf_min_V) {
         return;
     }
     {
