@@ -292,33 +292,40 @@ static void test_jam_and_open_winding_rules(void)
         diag_jam_check(&dd, &d, 1, TV_R(1.2), TV_R(0.3) + (tv_real_t)k * TV_R(0.0003), TV_R(10.0), TV_R(1.9), &sn);
     }
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2112), 0);
-    /* open winding: 5 samples of no current under |u| >= 3 V with |u - n Ke w| >= 2.5 V confirm
-     * (the 4th: u 3 V, emf 0.45 V, 2.55 V of drive); 2.4 V of drive, or 2.9 V applied however
-     * large u - emf is, or the bridge off, do not run. (A sample below the voltage gate first:
+    /* open winding: 5 samples of no current under |u| >= 3 V with |u - e| >= 3 V, e the back-EMF
+     * moved 0.35 V toward 0, confirm: the 4th u 3 V against an emf of 0.3 V (within the
+     * allowance: e = 0), the 5th 12 V against 9.3 V (e = 8.95 V, 3.05 V of drive). Not run in
+     * between: -3 V against -0.5 V (e = -0.15 V, 2.85 V), 12 V against 9.4 V (2.95 V), 2.9 V
+     * applied however large u - emf is, the bridge off. (A sample below the voltage gate first:
      * the check compares the current with the one a period ago, and a current that changed by
      * more than 0.05 A is not judged.) */
     diag_init(&d);
     TV_CHECK_NEAR(c.open_u_min_V, 3.0, 1e-6);
-    TV_CHECK_NEAR(c.open_emf_min_V, 2.5, 1e-6);
+    TV_CHECK_NEAR(c.open_emf_allow_V, 0.35, 1e-6);
     diag_open_check(&dd, &d, 1, TV_R(1.0), TV_R(0.0), 0, TV_R(0.0), TV_R(0.149), &sn);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2100), 0);
     for (k = 0; k < 3u; ++k) {
         diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.0), 0, TV_R(0.0), TV_R(0.149), &sn);
     }
-    diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.45), 0, TV_R(0.0), TV_R(0.149), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.3), 0, TV_R(0.0), TV_R(0.149), &sn);
     TV_CHECK_EQ_INT(d.code[DIAG_DTC_P2100].counter, 4);
-    diag_open_check(&dd, &d, 1, TV_R(12.0), TV_R(9.6), 0, TV_R(0.0), TV_R(0.149), &sn);
-    TV_CHECK_EQ_INT(d.code[DIAG_DTC_P2100].counter, 4);
-    diag_open_check(&dd, &d, 1, TV_R(2.9), TV_R(-40.0), 0, TV_R(0.0), TV_R(0.0), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(-3.0), TV_R(-0.5), 0, TV_R(0.0), TV_R(0.149), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(12.0), TV_R(9.4), 0, TV_R(0.0), TV_R(0.149), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(2.9), TV_R(-40.0), 0, TV_R(0.0), TV_R(0.149), &sn);
     diag_open_check(&dd, &d, 0, TV_R(12.0), TV_R(0.0), 0, TV_R(0.0), TV_R(0.0), &sn);
+    TV_CHECK_EQ_INT(d.code[DIAG_DTC_P2100].counter, 4);
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2100), 0);
-    diag_open_check(&dd, &d, 1, TV_R(-3.0), TV_R(0.0), 0, TV_R(0.0), TV_R(0.0), &sn);
+    diag_open_check(&dd, &d, 1, TV_R(12.0), TV_R(9.3), 0, TV_R(0.0), TV_R(0.0), &sn);
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2100), 1);
     diag_init(&d);
     diag_open_check(&dd, &d, 1, TV_R(3.0), TV_R(0.0), 0, TV_R(0.0), TV_R(0.15), &sn);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2100), 0);
-    c.open_emf_min_V = TV_R(0.0);
+    c.open_emf_allow_V = TV_R(-0.1);
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_ERR_CONFIG);
+    c.open_emf_allow_V = TV_R(3.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_ERR_CONFIG);
+    c.open_emf_allow_V = TV_R(0.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_OK);
 }
 
 static void test_winding_resistance_rule(void)

@@ -24,7 +24,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->jam_still_rad = TV_R(0.002);
     cfg->jam_limp_margin_rad = TV_R(0.05);
     cfg->open_u_min_V = TV_R(3.0);
-    cfg->open_emf_min_V = TV_R(2.5);
+    cfg->open_emf_allow_V = TV_R(0.35);
     cfg->open_i_max_A = TV_R(0.15);
     cfg->open_di_max_A = TV_R(0.05);
     cfg->r_high_frac = TV_R(1.35);
@@ -92,7 +92,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     {
         const tv_real_t all[] = {cfg->tps_disagree_rad, cfg->tps_vote_frac, cfg->jam_error_rad, cfg->jam_u_min_V,
                                  cfg->jam_break_factor, cfg->jam_still_rad, cfg->jam_limp_margin_rad,
-                                 cfg->open_u_min_V,     cfg->open_emf_min_V,   cfg->open_i_max_A,     cfg->open_di_max_A,
+                                 cfg->open_u_min_V,     cfg->open_i_max_A,     cfg->open_di_max_A,
                                  cfg->r_high_frac,      cfg->r_low_frac,    cfg->r_sigma_max_frac,
                                  cfg->r_excite_A,       cfg->friction_high_rel, cfg->friction_sigma_max,
                                  cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
@@ -121,7 +121,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
         !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u ||
         !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0)) ||
-        cfg->gain_hold_checks == 0u) {
+        cfg->gain_hold_checks == 0u || !(cfg->open_emf_allow_V >= TV_R(0.0)) ||
+        !(cfg->open_emf_allow_V < cfg->open_u_min_V)) {
         return TV_ERR_CONFIG;
     }
     memset(dd, 0, sizeof *dd);
@@ -293,8 +294,13 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
     }
     dd->i_prev_A = current_A;
     au = TV_FABS(u_V);
-    if (au < dd->cfg.open_u_min_V || TV_FABS(u_V - emf_V) < dd->cfg.open_emf_min_V) {
-        return;
+    {
+        /* the back-EMF, less the allowance for a held plate's velocity bias */
+        const tv_real_t allow = dd->cfg.open_emf_allow_V;
+        const tv_real_t emf_s = emf_V > allow ? emf_V - allow : (emf_V < -allow ? emf_V + allow : TV_R(0.0));
+        if (au < dd->cfg.open_u_min_V || TV_FABS(u_V - emf_s) < dd->cfg.open_u_min_V) {
+            return;
+        }
     }
     {
         /* the terminal voltage the current implies (exact armature solution over the period),

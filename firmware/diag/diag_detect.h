@@ -24,7 +24,8 @@
  *     DIAG_JAM_WINDOW samples: a failed check (P2112 when the target is above, i.e. commanded to
  *     open; P2111 below). Pushing and moving, or the target within jam_error_rad, passes.
  *   OPEN WINDING (P2100): over the period that just ended the bridge was enabled and applied
- *     |u| >= open_u_min_V with |u - n Ke w| >= open_emf_min_V as well (w the estimated velocity at
+ *     |u| >= open_u_min_V with |u - e| >= open_u_min_V as well, e = n Ke w moved open_emf_allow_V
+ *     toward 0 (w the estimated velocity at
  *     the start of the period: the back-EMF leaves that much to drive a current; the first
  *     condition keeps a wrong velocity estimate, e.g. against a stop the model does not know yet,
  *     from making a small voltage look large), and the measured current (plausible) is below
@@ -218,13 +219,15 @@ typedef struct {
     tv_real_t jam_still_rad;    /**< motion over DIAG_JAM_WINDOW samples below which the plate is still [rad], > 0; default 0.002 */
     tv_real_t jam_limp_margin_rad; /**< diag_jam_breakaway_Nm(): within this of limp-home the springs count as
                                      opposing any push [rad], > 0; default 0.05 (the preload's sign turns there) */
-    tv_real_t open_u_min_V;     /**< |u| from which a current must flow [V], > 0; default 3 */
-    tv_real_t open_emf_min_V;   /**< ... with |u - n Ke w| at least this [V], > 0; default 2.5: open_u_min_V less
-                                     the back-EMF of a 0.5 rad/s error in w (0.34 V on class a), the bias of
-                                     the estimated velocity of a held plate (DIAG_PROBE_REST_W_RAD_S): with
-                                     3 V here an open winding at a slowly rising 3 V waited up to 8 ms for
-                                     the estimate (fault matrix, slow_sine). A healthy winding carries
-                                     2.5 V / 5.2 ohm = 0.48 A or more, 3x open_i_max_A */
+    tv_real_t open_u_min_V;     /**< |u| and |u - n Ke w| from which a current must flow [V], > 0; default 3 */
+    tv_real_t open_emf_allow_V; /**< the back-EMF n Ke w in that second test is first taken this much closer
+                                     to 0 (and 0 within it) [V], >= 0; default 0.35: n Ke times the 0.5
+                                     rad/s bias of a held plate's estimated velocity (class a; 0.8 rad/s on
+                                     class b), DIAG_PROBE_REST_W_RAD_S. Without it an open winding under a
+                                     slowly rising 3 V waited up to 8 ms for the estimate (fault matrix,
+                                     slow_sine); a lower 2.5 V gate instead let shorted turns' back-EMF
+                                     error at speed (20 % of the turns: 2.7 V at 20 rad/s) look like an
+                                     open winding (5 more of 150 runs) */
     tv_real_t open_i_max_A;     /**< |current| below which none flows [A], > 0; default 0.15 */
     tv_real_t open_di_max_A;    /**< ... and changing by at most this over the period [A], > 0; default 0.05
                                      (3 sigma of a healthy sensor's period-to-period noise). A current
