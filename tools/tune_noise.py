@@ -92,7 +92,7 @@ POP_FIRST_TRAIN_SEED = 1001
 POP_GRID_QU = [2e-6, 5e-6, 1e-5, 2e-5]
 POP_GRID_QT = [2e-6, 3e-6, 4e-6, 5e-6, 1e-5, 1e-4]
 POP_GRID_QC = [0.0, 1e-5, 2e-5, 5e-5]
-POP_GRID_QREL = [0.0, 1e-5, 3e-5]
+POP_GRID_QREL = [0.0]  # the model-torque noise stays off unless searched (--grid-qrel 0,1e-5,3e-5: README)
 POP_GRID_INFLATE = [1.2]  # ekf.nis_inflate_threshold (0 = the inflation off); the default 1.2
 
 
@@ -254,8 +254,9 @@ def main():
     ap.add_argument("--population-exe", default="build/host-release/bin/population")
     ap.add_argument("--plants", type=int, default=30, help="--population: training units per section (default 30)")
     ap.add_argument("--json", default="out/tune_noise/population.json", help="--population: where to write every pair")
-    ap.add_argument("--jobs", type=int, default=1,
-                    help="--population: settings run at a time, 1..64 (default 1; 2 on a 2-core machine halves the time)")
+    ap.add_argument("--jobs", type=int, default=max(1, min(64, os.cpu_count() or 1)),
+                    help="--population: settings run at a time, 1..64 (default: the machine's cores; each "
+                         "setting is one single-threaded process at a time)")
     for name, grid in (("qu", POP_GRID_QU), ("qT", POP_GRID_QT), ("qc", POP_GRID_QC), ("qrel", POP_GRID_QREL),
                        ("inflate", POP_GRID_INFLATE)):
         ap.add_argument(f"--grid-{name}", type=float_list, default=grid,
