@@ -1058,6 +1058,72 @@ static int probe_step(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, int k
     return probe_step_w(dd, d, snap, k, allowed, phi, TV_R(0.0), pre_rel, fr_rel, T);
 }
 
+/* One opening sample at angle 0.1 + 0.001 k (away from limp-home, w = +2 rad/s), the model's
+ * spring torque 0.28 N m, unexplained torque y (the jam window's history first). */
+static void feed_opening(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, int k, tv_real_t y)
+{
+    snap->t_us = (uint64_t)k * 1000u;
+    diag_jam_check(dd, d, 0, TV_R(0.0), TV_R(0.1) + TV_R(0.001) * (tv_real_t)k, TV_R(0.0), TV_R(1.0), snap);
+    diag_torque_feed(dd, 1, TV_R(2.0), y, TV_R(0.0), TV_R(0.28), TV_R(0.2));
+}
+
+/* The probe's opening reading. A spring deficit leaves y = a s whichever way the plate moves:
+ * 30 opening samples with y = 0.3 x 0.28 alone raise the suspicion (reading 0.3), and a probe
+ * starts on the held plate. More friction (+30 %: 0.3 x 0.2 N m against the motion) reads
+ * -0.06 / 0.28 = -0.21 over opening samples: no suspicion, no probe. Less friction (-30 %) reads
+ * +0.21 there: a probe, which a healthy plate holds: no verdict, and both readings start over. */
+static void test_spring_probe_opening(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    tv_real_t T = TV_R(0.0);
+    int k;
+    int n = 0;
+    diag_detect_config_default(&cfg);
+    memset(&snap, 0, sizeof snap);
+    diag_init(&d);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    for (k = 0; k < 30; ++k) {
+        feed_opening(&dd, &d, &snap, k, TV_R(0.3) * TV_R(0.28));
+    }
+    TV_CHECK(dd.po_w >= cfg.probe_min_weight);
+    TV_CHECK_NEAR(dd.po_sy / dd.po_ss, 0.3, 1e-5);
+    TV_CHECK(dd.pc_w == TV_R(0.0)); /* no closing sample */
+    for (k = 30; k < 30 + (int)DIAG_JAM_WINDOW + 1 && n == 0; ++k) {
+        n = probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 1);
+    /* more friction while opening: a negative reading, no probe however long the plate rests */
+    diag_init(&d);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    for (k = 0; k < 30; ++k) {
+        feed_opening(&dd, &d, &snap, k, -TV_R(0.3) * TV_R(0.2));
+    }
+    TV_CHECK(dd.po_w >= cfg.probe_min_weight);
+    TV_CHECK_NEAR(dd.po_sy / dd.po_ss, -0.06 / 0.28, 1e-5);
+    n = 0;
+    for (k = 30; k < 200; ++k) {
+        n += probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 0);
+    /* less friction while opening: probed; the plate holds for DIAG_PROBE_MAX_STEPS steps, no
+     * verdict, and the suspicion is over (no further probe) */
+    diag_init(&d);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    for (k = 0; k < 30; ++k) {
+        feed_opening(&dd, &d, &snap, k, TV_R(0.3) * TV_R(0.2));
+    }
+    n = 0;
+    for (k = 30; k < 400; ++k) {
+        n += probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, (int)DIAG_PROBE_MAX_STEPS);
+    TV_CHECK(dd.po_w == TV_R(0.0) && dd.pc_w == TV_R(0.0));
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
+}
+
 /* A fresh detector suspecting a weak spring: 50 closing samples whose unexplained torque is 0.2
  * of the spring's (above probe_trigger). */
 static void suspect_spring(diag_detect_t *dd, diag_t *d, const diag_detect_config_t *cfg, diag_snapshot_t *snap)
@@ -1068,6 +1134,69 @@ static void suspect_spring(diag_detect_t *dd, diag_t *d, const diag_detect_confi
     for (k = 0; k < 50; ++k) {
         feed_closing(dd, d, snap, k, TV_R(0.2));
     }
+}
+
+/* A plate CREEPING toward limp-home (0.25 mrad per step, estimated 0.25 rad/s: the window moved
+ * 1.75 mrad, below DIAG_PROBE_CREEP_RAD 8 mrad) is probed. Without its spring it goes on 0.75 mrad
+ * toward limp-home, turns, and moves 0.4 mrad per step away: its motion counts from the turn, so
+ * the 4th step away (1.6 mrad from the turn, 0.85 from the probe's start) fails P1A02. A 2nd
+ * creeping plate that stops and holds gives no verdict and keeps the suspicion (the next probe
+ * starts), since a creeping probe that holds proves nothing; DIAG_PROBE_MAX_N such end it. */
+static void test_spring_probe_creeping(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    tv_real_t T = TV_R(0.0);
+    tv_real_t phi = TV_R(0.40);
+    int k;
+    int n = 0;
+    int holds = 0;
+    diag_detect_config_default(&cfg);
+    memset(&snap, 0, sizeof snap);
+    suspect_spring(&dd, &d, &cfg, &snap);
+    for (k = 50; k < 70 && n == 0; ++k) {
+        phi -= TV_R(0.00025);
+        n = probe_step_w(&dd, &d, &snap, k, 1, phi, TV_R(-0.25), TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 1);
+    TV_CHECK_EQ_INT(dd.probe_creep, 1);
+    for (n = 0; n < 3; ++n, ++k) {
+        phi -= TV_R(0.00025);
+        TV_CHECK_EQ_INT(probe_step_w(&dd, &d, &snap, k, 1, phi, TV_R(-0.25), TV_R(1.0), TV_R(1.0), &T), 1);
+    }
+    for (n = 0; n < 3; ++n, ++k) {
+        phi += TV_R(0.0004);
+        TV_CHECK_EQ_INT(probe_step_w(&dd, &d, &snap, k, 1, phi, TV_R(0.4), TV_R(1.0), TV_R(1.0), &T), 1);
+    }
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02));
+    phi += TV_R(0.0004);
+    TV_CHECK_EQ_INT(probe_step_w(&dd, &d, &snap, k, 1, phi, TV_R(0.4), TV_R(1.0), TV_R(1.0), &T), 0);
+    TV_CHECK(diag_pending(&d, DIAG_DTC_P1A02));
+    TV_CHECK_EQ_INT(dd.probe_n, 1);
+    /* creeping plates that stop and hold: no verdict, the suspicion stays for DIAG_PROBE_MAX_N of them */
+    suspect_spring(&dd, &d, &cfg, &snap);
+    phi = TV_R(0.40);
+    for (k = 50; k < 2000 && dd.pc_w > TV_R(0.0);) {
+        int p;
+        for (p = 0; p < (int)DIAG_JAM_WINDOW; ++p, ++k) { /* creeps (no probe allowed meanwhile) */
+            phi -= TV_R(0.00025);
+            TV_CHECK_EQ_INT(probe_step_w(&dd, &d, &snap, k, 0, phi, TV_R(-0.25), TV_R(1.0), TV_R(1.0), &T), 0);
+        }
+        phi -= TV_R(0.00025);
+        TV_CHECK_EQ_INT(probe_step_w(&dd, &d, &snap, k++, 1, phi, TV_R(-0.25), TV_R(1.0), TV_R(1.0), &T), 1);
+        TV_CHECK_EQ_INT(dd.probe_creep, 1);
+        for (p = 0; p < (int)DIAG_PROBE_MAX_STEPS + 1 && probe_step_w(&dd, &d, &snap, k, 1, phi, TV_R(0.0), TV_R(1.0),
+                                                                        TV_R(1.0), &T); ++p, ++k) {
+        }
+        ++k;
+        ++holds; /* then holds */
+        TV_CHECK_EQ_INT(dd.probe_creep_n, holds < (int)DIAG_PROBE_MAX_N ? holds : 0);
+    }
+    TV_CHECK_EQ_INT(holds, (int)DIAG_PROBE_MAX_N);
+    TV_CHECK(dd.pc_w == TV_R(0.0)); /* then the suspicion is over */
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
 }
 
 /* The spring probe (diag_spring_probe()) on scripted inputs. Nothing suspected (healthy closing
@@ -1111,7 +1240,7 @@ static void test_spring_probe(void)
     for (k = 201; k < 251; ++k) {
         feed_closing(&dd, &d, &snap, k, TV_R(0.3) * TV_R(0.28));
     }
-    TV_CHECK(dd.cl_w >= cfg.probe_min_weight);
+    TV_CHECK(dd.pc_w >= cfg.probe_min_weight);
     /* the plate comes to rest: the jam window must see it still first (DIAG_JAM_WINDOW samples) */
     n = 0;
     for (k = 251; k < 251 + (int)DIAG_JAM_WINDOW + 1 && n == 0; ++k) {
@@ -1167,7 +1296,7 @@ static void test_spring_probe(void)
     for (n = 0; n < 400; ++n, ++k) {
         feed_closing(&dd, &d, &snap, k, TV_R(0.0));
     }
-    TV_CHECK(dd.cl_sy < cfg.probe_trigger * dd.cl_ss);
+    TV_CHECK(dd.pc_sy < cfg.probe_trigger * dd.pc_ss);
     TV_CHECK_EQ_INT(probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T), 0);
     TV_CHECK_EQ_INT(dd.probe_n, 0);
     for (n = 0; n < (int)DIAG_PARAM_DECIM; ++n) {
@@ -1181,8 +1310,10 @@ static void test_spring_probe(void)
     for (k = 50; k < 400; ++k) {
         n += probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(1.0), TV_R(1.0), &T);
     }
-    TV_CHECK_EQ_INT(n, (int)DIAG_PROBE_MAX_STEPS);
-    TV_CHECK(dd.cl_w == TV_R(0.0));
+    /* the first probe begins while the jam window still holds the closing samples' motion
+     * toward limp-home (creeping: its hold is no evidence), the second on the still plate */
+    TV_CHECK_EQ_INT(n, 2 * (int)DIAG_PROBE_MAX_STEPS);
+    TV_CHECK(dd.pc_w == TV_R(0.0));
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
     /* not allowed (limited authority, near a stop or limp-home, open loop): no probe */
     suspect_spring(&dd, &d, &cfg, &snap);
@@ -1215,11 +1346,27 @@ static void test_spring_probe(void)
         n = probe_step_w(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(-0.3), TV_R(1.0), TV_R(1.0), &T);
     }
     TV_CHECK_EQ_INT(n, 1);
-    TV_CHECK_EQ_INT(k, 50 + (int)DIAG_JAM_WINDOW);
+    /* at once, step 50 (the loop's k one past it): the jam window moved 7 mrad toward limp-home
+     * (the closing samples, 1 mrad a step), less than DIAG_PROBE_CREEP_RAD */
+    TV_CHECK_EQ_INT(k, 51);
     suspect_spring(&dd, &d, &cfg, &snap);
     n = 0;
     for (k = 50; k < 400; ++k) {
-        n += probe_step_w(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(-0.6), TV_R(1.0), TV_R(1.0), &T);
+        n += probe_step_w(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(0.6), TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 0);
+    /* toward limp-home the bound is DIAG_PROBE_CREEP_W_RAD_S (1.0): 0.6 rad/s is probed, 1.2 not */
+    TV_CHECK_NEAR(DIAG_PROBE_CREEP_W_RAD_S, 1.0, 1e-6);
+    suspect_spring(&dd, &d, &cfg, &snap);
+    n = 0;
+    for (k = 50; k < 70 && n == 0; ++k) {
+        n = probe_step_w(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(-0.6), TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 1);
+    suspect_spring(&dd, &d, &cfg, &snap);
+    n = 0;
+    for (k = 50; k < 400; ++k) {
+        n += probe_step_w(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(-1.2), TV_R(1.0), TV_R(1.0), &T);
     }
     TV_CHECK_EQ_INT(n, 0);
     /* a probe that moves the plate 0.8 mrad (between DIAG_PROBE_UNSURE_FRAC x probe_move_rad =
@@ -1241,10 +1388,11 @@ static void test_spring_probe(void)
     while (probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T) && k < 200) {
         ++k;
     }
-    /* started at step 57 (the first still window), ended DIAG_PROBE_MAX_STEPS steps later */
-    TV_CHECK_EQ_INT(k, 50 + (int)DIAG_JAM_WINDOW - 1 + (int)DIAG_PROBE_MAX_STEPS);
+    /* started at step 50 (the window moved 7 mrad toward limp-home, less than
+     * DIAG_PROBE_CREEP_RAD), ended DIAG_PROBE_MAX_STEPS steps later */
+    TV_CHECK_EQ_INT(k, 50 + (int)DIAG_PROBE_MAX_STEPS);
     TV_CHECK_EQ_INT(dd.probe_n, 1);
-    TV_CHECK(dd.cl_w >= cfg.probe_min_weight); /* still suspected */
+    TV_CHECK(dd.pc_w >= cfg.probe_min_weight); /* still suspected */
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
     n = 0;
     for (++k; k < 300 && n == 0; ++k) {
@@ -1259,7 +1407,7 @@ static void test_spring_probe(void)
         ++k;
     }
     TV_CHECK_EQ_INT(dd.probe_n, 0);
-    TV_CHECK(dd.cl_w == TV_R(0.0)); /* held: the suspicion is over */
+    TV_CHECK(dd.pc_w == TV_R(0.0)); /* held: the suspicion is over */
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
 }
 
@@ -1582,6 +1730,8 @@ int main(void)
     TV_TEST_RUN(test_current_sensor_offset_detected);
     TV_TEST_RUN(test_spring_break_within_300_ms);
     TV_TEST_RUN(test_spring_probe);
+    TV_TEST_RUN(test_spring_probe_opening);
+    TV_TEST_RUN(test_spring_probe_creeping);
     TV_TEST_RUN(test_spring_break_while_holding);
     TV_TEST_RUN(test_friction_plus_25_percent_identified);
     TV_TEST_RUN(test_motor_constant_signature);

@@ -654,12 +654,13 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
             }
         }
         if (c->mode == APP_MODE_POSITION && out->bridge_enable && was_on && action == DIAG_ACTION_NONE && tq_ok &&
-            app->ddet.cl_w > TV_R(0.0)) {
-            /* the spring probe: a plate held after closing motion that read as a weak spring or as
-             * more friction gets the model's spring torque plus 0.65 of its sliding friction (the
-             * adapted levels from before the suspicion) for a few periods, through the adapted
-             * resistance (a healthy plate, or one with more friction, stays: its static friction is
-             * at least the sliding one; one without its spring moves away from limp-home) */
+            (app->ddet.pc_w > TV_R(0.0) || app->ddet.po_w > TV_R(0.0))) {
+            /* the spring probe: a plate held after motion that read as a weak spring (or, closing,
+             * as more friction; opening, as less) gets the model's spring torque plus 0.65 of its
+             * sliding friction (the adapted levels from before the suspicion) for a few periods,
+             * through the adapted resistance (a healthy plate, or one with more friction, stays: its
+             * static friction is at least the sliding one; one without its spring moves away from
+             * limp-home) */
             const tv_real_t phi = out->x[TVM_PHI];
             tv_real_t torque = TV_R(0.0);
             const int away = phi > out->stop_closed_rad + APP_TQ_STOP_MARGIN_RAD &&

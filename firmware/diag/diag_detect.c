@@ -514,9 +514,14 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
     if (w_rad_s < TV_R(0.0)) {
         /* closing alone: a weaker spring and more friction both leave a positive torque (collinear),
          * the spring probe tells them apart */
-        dd->cl_w = lam * dd->cl_w + TV_R(1.0);
-        dd->cl_ss = lam * dd->cl_ss + spring_Nm * spring_Nm;
-        dd->cl_sy = lam * dd->cl_sy + spring_Nm * y;
+        dd->pc_w = lam * dd->pc_w + TV_R(1.0);
+        dd->pc_ss = lam * dd->pc_ss + spring_Nm * spring_Nm;
+        dd->pc_sy = lam * dd->pc_sy + spring_Nm * y;
+    } else {
+        /* opening alone: a weaker spring and less friction both leave a positive torque */
+        dd->po_w = lam * dd->po_w + TV_R(1.0);
+        dd->po_ss = lam * dd->po_ss + spring_Nm * spring_Nm;
+        dd->po_sy = lam * dd->po_sy + spring_Nm * y;
     }
 }
 
@@ -780,6 +785,17 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
     }
 }
 
+/* The spring probe's reading that raised the suspicion: the larger of the closing and the
+ * opening one among those with enough weight (the spring deficit a either shows). */
+static tv_real_t probe_reading(const diag_detect_t *dd)
+{
+    const int cl = dd->pc_w >= dd->cfg.probe_min_weight && dd->pc_ss > TV_R(0.0);
+    const int op = dd->po_w >= dd->cfg.probe_min_weight && dd->po_ss > TV_R(0.0);
+    const tv_real_t a_cl = cl ? dd->pc_sy / dd->pc_ss : TV_R(0.0);
+    const tv_real_t a_op = op ? dd->po_sy / dd->po_ss : TV_R(0.0);
+    return (op && (!cl || a_op > a_cl)) ? a_op : a_cl;
+}
+
 int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_rad, tv_real_t w_rad_s, tv_real_t preload_Nm,
                       tv_real_t rate_Nm, tv_real_t friction_Nm, tv_real_t preload_rel, tv_real_t friction_rel,
                       tv_real_t *torque_Nm, const diag_snapshot_t *snap)
@@ -789,7 +805,8 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
         return 0;
     }
     /* nothing suspected: the common case, one comparison */
-    if (!(dd->cl_w >= dd->cfg.probe_min_weight) || !(dd->cl_sy >= dd->cfg.probe_trigger * dd->cl_ss)) {
+    if ((!(dd->pc_w >= dd->cfg.probe_min_weight) || !(dd->pc_sy >= dd->cfg.probe_trigger * dd->pc_ss)) &&
+        (!(dd->po_w >= dd->cfg.probe_min_weight) || !(dd->po_sy >= dd->cfg.probe_trigger * dd->po_ss))) {
         /* the adapted levels as they are before a suspicion (the fault pulls them while it is seen) */
         if (TV_IS_FINITE(preload_rel) && TV_IS_FINITE(friction_rel)) {
             dd->probe_pre_ref = preload_rel;
@@ -797,6 +814,7 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
         }
         dd->probe_t = 0u;
         dd->probe_n = 0u; /* a sequence whose suspicion faded is over (P1A02 may pass again) */
+        dd->probe_creep_n = 0u;
         return 0;
     }
     if (!allowed || !TV_IS_FINITE(phi_rad) || !TV_IS_FINITE(w_rad_s) || !TV_IS_FINITE(preload_Nm) ||
@@ -806,27 +824,41 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
     }
     dir = phi_rad > TV_R(0.0) ? TV_R(1.0) : TV_R(-1.0); /* the spring's pull toward limp-home is against dir */
     if (dd->probe_t > 0u) {
-        const tv_real_t moved = dir * (phi_rad - dd->probe_phi0);
+        tv_real_t moved;
+        if (dir * (phi_rad - dd->probe_phi0) < TV_R(0.0)) {
+            /* still creeping toward limp-home: the motion away counts from where it turns */
+            dd->probe_phi0 = phi_rad;
+        }
+        moved = dir * (phi_rad - dd->probe_phi0);
         if (moved >= dd->cfg.probe_move_rad || dd->probe_t >= DIAG_PROBE_MAX_STEPS) {
             /* moved away from limp-home under the model's spring torque plus a fraction of the
              * sliding friction: the spring is not there (more friction only holds it harder); held:
              * no evidence, the suspicion ends (a friction fault, or a spring that holds) */
-            const tv_real_t pre = TV_R(1.0) - dd->cl_sy / dd->cl_ss;
+            const tv_real_t pre = TV_R(1.0) - probe_reading(dd);
             dd->probe_t = 0u;
             if (moved >= dd->cfg.probe_move_rad) {
                 (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, pre);
                 if (++dd->probe_n < DIAG_PROBE_MAX_N) {
                     return 0;
                 }
-            } else if (moved >= DIAG_PROBE_UNSURE_FRAC * dd->cfg.probe_move_rad && ++dd->probe_n < DIAG_PROBE_MAX_N) {
+            } else {
                 /* moved, but short of probe_move_rad: no verdict, the suspicion stays (the next
-                 * probe when the plate rests again) */
-                return 0;
+                 * probe when the plate rests again); held after beginning on a plate creeping
+                 * toward limp-home: no evidence either, the suspicion stays too */
+                const int unsure = moved >= DIAG_PROBE_UNSURE_FRAC * dd->cfg.probe_move_rad;
+                if (unsure ? ++dd->probe_n < DIAG_PROBE_MAX_N
+                           : (dd->probe_creep != 0u && ++dd->probe_creep_n < DIAG_PROBE_MAX_N)) {
+                    return 0;
+                }
             }
             dd->probe_n = 0u;
-            dd->cl_w = TV_R(0.0);
-            dd->cl_ss = TV_R(0.0);
-            dd->cl_sy = TV_R(0.0);
+            dd->probe_creep_n = 0u;
+            dd->pc_w = TV_R(0.0);
+            dd->pc_ss = TV_R(0.0);
+            dd->pc_sy = TV_R(0.0);
+            dd->po_w = TV_R(0.0);
+            dd->po_ss = TV_R(0.0);
+            dd->po_sy = TV_R(0.0);
             return 0;
         }
         ++dd->probe_t;
@@ -836,10 +868,15 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
     {
         /* a plate at rest (the jam check's window: the newest angle against the oldest) */
         const tv_real_t newest = dd->phi_hist[(dd->hist_i + DIAG_JAM_WINDOW - 1u) % DIAG_JAM_WINDOW];
-        if (dd->hist_n < DIAG_JAM_WINDOW || TV_FABS(newest - dd->phi_hist[dd->hist_i]) >= TV_R(0.2) * dd->cfg.probe_move_rad ||
-            TV_FABS(w_rad_s) >= DIAG_PROBE_REST_W_RAD_S) {
+        const tv_real_t still = TV_R(0.2) * dd->cfg.probe_move_rad;
+        const tv_real_t away = dir * (newest - dd->phi_hist[dd->hist_i]);
+        /* or creeping toward limp-home (a plate without its spring that the controller pulls
+         * back): the probe's motion away is then counted from where the plate turns */
+        if (dd->hist_n < DIAG_JAM_WINDOW || away >= still || -away >= DIAG_PROBE_CREEP_RAD ||
+            dir * w_rad_s >= DIAG_PROBE_REST_W_RAD_S || -dir * w_rad_s >= DIAG_PROBE_CREEP_W_RAD_S) {
             return 0;
         }
+        dd->probe_creep = -away >= still ? 1u : 0u;
     }
     dd->probe_phi0 = phi_rad;
     dd->probe_T = dir * (dd->probe_pre_ref * preload_Nm + dd->cfg.probe_friction_frac * dd->probe_fric_ref * friction_Nm) +

@@ -73,21 +73,25 @@
  *     fifth of its friction, while a spring that no longer opposes the move leaves a reading of
  *     0 or less. Judged with the signature's conditions while its newest sample is such a one.
  *   SPRING PROBE (behind P1A02, a plate that holds): the signature's closing samples (w < 0: it
- *     is fed above limp-home only, toward it) are also summed alone; there a weaker spring and
- *     more friction both leave a torque away from limp-home (collinear: the signature does not
- *     judge them). When their reading a = sum(s y) / sum(s s) reaches probe_trigger (over
- *     probe_min_weight decayed samples) and the plate then rests (the estimate moved less than
- *     0.2 probe_move_rad over the jam window, |w| < DIAG_PROBE_REST_W_RAD_S) where the caller
+ *     is fed above limp-home only, toward it) and its opening ones are also regressed on the
+ *     spring alone, each direction apart. A weaker spring leaves a torque away from limp-home in
+ *     either direction (a > 0 in both readings); more friction one against the motion, along the
+ *     spring's in closing samples (collinear: the signature does not judge them), against it in
+ *     opening ones (less friction the reverse). When either reading a = sum(s y) / sum(s s)
+ *     (the larger, if both) reaches probe_trigger (over probe_min_weight decayed samples) and
+ *     the plate then rests (the estimate moved less than 0.2 probe_move_rad away from limp-home
+ *     over the jam window, w < DIAG_PROBE_REST_W_RAD_S that way) or creeps back toward
+ *     limp-home (DIAG_PROBE_CREEP_RAD, DIAG_PROBE_CREEP_W_RAD_S) where the caller
  *     allows it, diag_spring_probe() asks the caller to apply the model's spring torque
  *     M0 (1 + m) sp(phi) + c phi plus probe_friction_frac of its sliding friction (1 + f) Mc,
  *     away from limp-home, for up to DIAG_PROBE_MAX_STEPS steps (1 + m and 1 + f as they were
  *     before the suspicion: the fault pulls them while it is seen). A healthy
  *     plate stays (its static friction is at least its sliding friction), more friction holds it
- *     harder; without its spring it moves: probe_move_rad away from limp-home is one failed
- *     check of P1A02 (value 1 - a) and ends the probe; the next starts when the plate rests again.
- *     Moving DIAG_PROBE_UNSURE_FRAC of that to less than it gives no verdict but keeps the
- *     suspicion. A probe that holds gives no verdict and ends the suspicion, as do DIAG_PROBE_MAX_N
- *     moving probes. While probes have moved the plate, diag_param_check() does not pass P1A02.
+ *     harder; without its spring it moves: probe_move_rad away from limp-home (from where it
+ *     turns, if it crept) is one failed check of P1A02 (value 1 - a) and ends the probe; the next
+ *     starts when the plate rests again. Moving DIAG_PROBE_UNSURE_FRAC of that to less than it
+ *     gives no verdict but keeps the suspicion. A probe that holds gives no verdict and ends the
+ *     suspicion (one begun on a creeping plate keeps it), as do DIAG_PROBE_MAX_N moving probes. While probes have moved the plate, diag_param_check() does not pass P1A02.
  *   BRIDGE DIRECTION LOST (P1A03), in the open-winding check's samples (same gate): the terminal
  *     voltage the measured current implies, v = e + (i1 - a_T i0) / b_T (e = n Ke times the
  *     differentiated measured angle, the one the estimator gets: the estimate's velocity can be
@@ -320,10 +324,11 @@ typedef struct {
                                        healthy unit whose viscous or Stribeck friction differs from the
                                        model's reads a high signature at speed while 1 + f stays near 1.2:
                                        measured, class b unit 1010 of all_varied in chirp and the 12 V sine) */
-    tv_real_t probe_trigger;      /**< SPRING PROBE: the closing-only reading a = sum(s y) / sum(s s) (s the
-                                       model's spring torque, y the unexplained torque, closing samples of the
-                                       signature) from which a held plate is probed [-], > 0; default 0.1 */
-    tv_real_t probe_min_weight;   /**< ... once the closing samples' weight (decayed count) is at least this
+    tv_real_t probe_trigger;      /**< SPRING PROBE: the closing or the opening reading a = sum(s y) / sum(s s)
+                                       (s the model's spring torque, y the unexplained torque, the signature's
+                                       samples of that direction) from which a held plate is probed [-], > 0;
+                                       default 0.1 */
+    tv_real_t probe_min_weight;   /**< ... once that direction's weight (decayed count) is at least this
                                        [samples], > 0; default 8 (a full-range step feeds some 30 at
                                        class a's slew; class b's faster slew some 10, which 15 missed:
                                        all_varied unit 1001, closed_steps, 9.96 after 1.2 -> 0.2 rad) */
@@ -400,9 +405,12 @@ typedef struct {
     tv_real_t aw_w;        /**< away reading: decayed count of the signature's samples moving away from limp-home, */
     tv_real_t aw_fy;       /**<   their unexplained torque along the friction (opposing the motion) [N m] */
     uint8_t aw_last;       /**< 1 when the signature's newest sample was one of them */
-    tv_real_t cl_w;        /**< spring probe: decayed count of the signature's closing samples, */
-    tv_real_t cl_ss;       /**<   their spring regressor squared, */
-    tv_real_t cl_sy;       /**<   spring regressor x unexplained torque */
+    tv_real_t pc_w;        /**< spring probe: decayed count of the signature's closing samples, */
+    tv_real_t pc_ss;       /**<   their spring regressor squared, */
+    tv_real_t pc_sy;       /**<   spring regressor x unexplained torque */
+    tv_real_t po_w;        /**< ... the same of the signature's opening samples: decayed count, */
+    tv_real_t po_ss;       /**<   their spring regressor squared, */
+    tv_real_t po_sy;       /**<   spring regressor x unexplained torque */
     tv_real_t probe_phi0;  /**< the angle at the probe's start [rad] */
     tv_real_t probe_T;     /**< the probe's torque [N m] */
     tv_real_t probe_pre_ref;  /**< the estimator's 1 + m while nothing was suspected [-] */
@@ -415,6 +423,8 @@ typedef struct {
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
     uint8_t probe_n;       /**< probes that moved the plate since the suspicion was raised */
+    uint8_t probe_creep;   /**< 1: the running probe began on a plate creeping toward limp-home */
+    uint8_t probe_creep_n; /**< probes begun on a creeping plate that held, since the suspicion was raised */
 } diag_detect_t;
 
 /** Defaults (see diag_detect_config_t). Does nothing when cfg is NULL. */
@@ -613,11 +623,21 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
  * spring a plate the controller has not yet pulled back can move 1.4-1.5 mrad in a probe (fault
  * matrix, spring at 30 %: the 5th probe ended the suspicion at 1.47 mrad). */
 #define DIAG_PROBE_UNSURE_FRAC TV_R(0.3)
-/** The estimated speed below which a plate whose angle is still over the jam window counts as at
- * rest for a probe [rad/s]. A plate held by static friction without the spring the model pulls
+/** The estimated speed away from limp-home below which a plate whose angle is still over the jam
+ * window counts as at rest for a probe [rad/s] (toward limp-home: DIAG_PROBE_CREEP_W_RAD_S). A plate held by static friction without the spring the model pulls
  * with keeps an estimated speed of 0.1-0.3 rad/s toward limp-home (class b, measured), which a
  * bound of 0.05 rad/s let wait 35-100 ms before each probe. */
 #define DIAG_PROBE_REST_W_RAD_S TV_R(0.5)
+/** A plate CREEPING toward limp-home may be probed too: its window's motion toward limp-home below
+ * DIAG_PROBE_CREEP_RAD [rad] and its estimated speed that way below DIAG_PROBE_CREEP_W_RAD_S
+ * [rad/s]. A plate without its spring that the controller pulls back after an overshoot creeps
+ * back at 0.1-0.4 rad/s (estimated 0.3-0.8) for 300 ms or more (class b, limp_home's opening step
+ * to 0.8 rad), where the rest gate alone let it wait. The probe's motion away from limp-home then
+ * counts from where the plate turns (a healthy plate stops and stays: friction opposes the
+ * creep), and a creeping probe that holds (moved less than DIAG_PROBE_UNSURE_FRAC) gives no
+ * verdict and keeps the suspicion, at most DIAG_PROBE_MAX_N times. */
+#define DIAG_PROBE_CREEP_RAD TV_R(0.008)
+#define DIAG_PROBE_CREEP_W_RAD_S TV_R(1.0)
 
 /**
  * The spring probe (see the file comment); reports P1A02. Call once per step after the control
