@@ -1091,6 +1091,26 @@ static void test_spring_probe_opening(void)
     TV_CHECK(dd.po_w >= cfg.probe_min_weight);
     TV_CHECK_NEAR(dd.po_sy / dd.po_ss, 0.3, 1e-5);
     TV_CHECK(dd.pc_w == TV_R(0.0)); /* no closing sample */
+    {
+        /* below limp-home the directions swap: moving down (w < 0, the spring torque -0.28 N m)
+         * is away from limp-home, fed to the opening reading; moving up is toward it */
+        static diag_detect_t below;
+        int j;
+        TV_CHECK_EQ_INT(diag_detect_init(&below, &cfg), TV_OK);
+        for (j = 0; j < 20; ++j) {
+            snap.t_us = (uint64_t)j * 1000u;
+            diag_jam_check(&below, &d, 0, TV_R(0.0), -TV_R(0.06) - TV_R(0.001) * (tv_real_t)j, TV_R(0.0), TV_R(1.0), &snap);
+            diag_torque_feed(&below, 1, -TV_R(2.0), -TV_R(0.3) * TV_R(0.28), TV_R(0.0), -TV_R(0.28), TV_R(0.2));
+        }
+        TV_CHECK(below.po_w > TV_R(0.0) && below.pc_w == TV_R(0.0));
+        TV_CHECK_NEAR(below.po_sy / below.po_ss, 0.3, 1e-5);
+        for (j = 20; j < 40; ++j) {
+            snap.t_us = (uint64_t)j * 1000u;
+            diag_jam_check(&below, &d, 0, TV_R(0.0), -TV_R(0.08) + TV_R(0.001) * (tv_real_t)(j - 20), TV_R(0.0), TV_R(1.0), &snap);
+            diag_torque_feed(&below, 1, TV_R(2.0), TV_R(0.0), TV_R(0.0), -TV_R(0.28), TV_R(0.2));
+        }
+        TV_CHECK(below.pc_w > TV_R(0.0));
+    }
     for (k = 30; k < 30 + (int)DIAG_JAM_WINDOW + 1 && n == 0; ++k) {
         n = probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(1.0), TV_R(1.0), &T);
     }

@@ -511,14 +511,15 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
         dd->aw_fs = lam * dd->aw_fs + friction_Nm;
         dd->aw_fy = lam * dd->aw_fy + (w_rad_s > TV_R(0.0) ? -y : y);
     }
-    if (w_rad_s < TV_R(0.0)) {
-        /* closing alone: a weaker spring and more friction both leave a positive torque (collinear),
-         * the spring probe tells them apart */
+    if (w_rad_s * spring_Nm < TV_R(0.0)) {
+        /* toward limp-home alone (closing above it): a weaker spring and more friction both leave a
+         * positive torque (collinear), the spring probe tells them apart */
         dd->pc_w = lam * dd->pc_w + TV_R(1.0);
         dd->pc_ss = lam * dd->pc_ss + spring_Nm * spring_Nm;
         dd->pc_sy = lam * dd->pc_sy + spring_Nm * y;
     } else {
-        /* opening alone: a weaker spring and less friction both leave a positive torque */
+        /* away from limp-home alone (opening above it): a weaker spring and less friction both
+         * leave a positive torque */
         dd->po_w = lam * dd->po_w + TV_R(1.0);
         dd->po_ss = lam * dd->po_ss + spring_Nm * spring_Nm;
         dd->po_sy = lam * dd->po_sy + spring_Nm * y;

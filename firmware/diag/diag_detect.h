@@ -72,12 +72,12 @@
  *     two readings below away_friction_min fails P1A02 (value: the reading): no unit slides on a
  *     fifth of its friction, while a spring that no longer opposes the move leaves a reading of
  *     0 or less. Judged with the signature's conditions while its newest sample is such a one.
- *   SPRING PROBE (behind P1A02, a plate that holds): the signature's closing samples (w < 0: it
- *     is fed above limp-home only, toward it) and its opening ones are also regressed on the
- *     spring alone, each direction apart. A weaker spring leaves a torque away from limp-home in
- *     either direction (a > 0 in both readings); more friction one against the motion, along the
- *     spring's in closing samples (collinear: the signature does not judge them), against it in
- *     opening ones (less friction the reverse). When either reading a = sum(s y) / sum(s s)
+ *   SPRING PROBE (behind P1A02, a plate that holds): the signature's samples moving toward
+ *     limp-home ("closing", w < 0 above it) and those moving away from it ("opening") are also
+ *     regressed on the spring alone, each direction apart. A weaker spring leaves a torque away
+ *     from limp-home in either direction (a > 0 in both readings); more friction one against the
+ *     motion, along the spring's in closing samples (collinear: the signature does not judge
+ *     them), against it in opening ones (less friction the reverse). When either reading a = sum(s y) / sum(s s)
  *     (the larger, if both) reaches probe_trigger (over probe_min_weight decayed samples) and
  *     the plate then rests (the estimate moved less than 0.2 probe_move_rad away from limp-home
  *     over the jam window, w < DIAG_PROBE_REST_W_RAD_S that way) or creeps back toward
@@ -405,10 +405,10 @@ typedef struct {
     tv_real_t aw_w;        /**< away reading: decayed count of the signature's samples moving away from limp-home, */
     tv_real_t aw_fy;       /**<   their unexplained torque along the friction (opposing the motion) [N m] */
     uint8_t aw_last;       /**< 1 when the signature's newest sample was one of them */
-    tv_real_t pc_w;        /**< spring probe: decayed count of the signature's closing samples, */
+    tv_real_t pc_w;        /**< spring probe: decayed count of the signature's samples toward limp-home, */
     tv_real_t pc_ss;       /**<   their spring regressor squared, */
     tv_real_t pc_sy;       /**<   spring regressor x unexplained torque */
-    tv_real_t po_w;        /**< ... the same of the signature's opening samples: decayed count, */
+    tv_real_t po_w;        /**< ... the same of its samples away from limp-home: decayed count, */
     tv_real_t po_ss;       /**<   their spring regressor squared, */
     tv_real_t po_sy;       /**<   spring regressor x unexplained torque */
     tv_real_t probe_phi0;  /**< the angle at the probe's start [rad] */
