@@ -1088,9 +1088,9 @@ static void test_spring_probe_opening(void)
     for (k = 0; k < 30; ++k) {
         feed_opening(&dd, &d, &snap, k, TV_R(0.3) * TV_R(0.28));
     }
-    TV_CHECK(dd.po_w >= cfg.probe_min_weight);
-    TV_CHECK_NEAR(dd.po_sy / dd.po_ss, 0.3, 1e-5);
-    TV_CHECK(dd.pc_w == TV_R(0.0)); /* no closing sample */
+    TV_CHECK(dd.po.w >= cfg.probe_min_weight);
+    TV_CHECK_NEAR(dd.po.sy / dd.po.ss, 0.3, 1e-5);
+    TV_CHECK(dd.pc.w == TV_R(0.0)); /* no closing sample */
     {
         /* below limp-home the directions swap: moving down (w < 0, the spring torque -0.28 N m)
          * is away from limp-home, fed to the opening reading; moving up is toward it */
@@ -1102,14 +1102,14 @@ static void test_spring_probe_opening(void)
             diag_jam_check(&below, &d, 0, TV_R(0.0), -TV_R(0.06) - TV_R(0.001) * (tv_real_t)j, TV_R(0.0), TV_R(1.0), &snap);
             diag_torque_feed(&below, 1, -TV_R(2.0), -TV_R(0.3) * TV_R(0.28), TV_R(0.0), -TV_R(0.28), TV_R(0.2));
         }
-        TV_CHECK(below.po_w > TV_R(0.0) && below.pc_w == TV_R(0.0));
-        TV_CHECK_NEAR(below.po_sy / below.po_ss, 0.3, 1e-5);
+        TV_CHECK(below.po.w > TV_R(0.0) && below.pc.w == TV_R(0.0));
+        TV_CHECK_NEAR(below.po.sy / below.po.ss, 0.3, 1e-5);
         for (j = 20; j < 40; ++j) {
             snap.t_us = (uint64_t)j * 1000u;
             diag_jam_check(&below, &d, 0, TV_R(0.0), -TV_R(0.08) + TV_R(0.001) * (tv_real_t)(j - 20), TV_R(0.0), TV_R(1.0), &snap);
             diag_torque_feed(&below, 1, TV_R(2.0), TV_R(0.0), TV_R(0.0), -TV_R(0.28), TV_R(0.2));
         }
-        TV_CHECK(below.pc_w > TV_R(0.0));
+        TV_CHECK(below.pc.w > TV_R(0.0));
     }
     for (k = 30; k < 30 + (int)DIAG_JAM_WINDOW + 1 && n == 0; ++k) {
         n = probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(1.0), TV_R(1.0), &T);
@@ -1121,8 +1121,8 @@ static void test_spring_probe_opening(void)
     for (k = 0; k < 30; ++k) {
         feed_opening(&dd, &d, &snap, k, -TV_R(0.3) * TV_R(0.2));
     }
-    TV_CHECK(dd.po_w >= cfg.probe_min_weight);
-    TV_CHECK_NEAR(dd.po_sy / dd.po_ss, -0.06 / 0.28, 1e-5);
+    TV_CHECK(dd.po.w >= cfg.probe_min_weight);
+    TV_CHECK_NEAR(dd.po.sy / dd.po.ss, -0.06 / 0.28, 1e-5);
     n = 0;
     for (k = 30; k < 200; ++k) {
         n += probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(1.0), TV_R(1.0), &T);
@@ -1140,7 +1140,7 @@ static void test_spring_probe_opening(void)
         n += probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(1.0), TV_R(1.0), &T);
     }
     TV_CHECK_EQ_INT(n, (int)DIAG_PROBE_MAX_STEPS);
-    TV_CHECK(dd.po_w == TV_R(0.0) && dd.pc_w == TV_R(0.0));
+    TV_CHECK(dd.po.w == TV_R(0.0) && dd.pc.w == TV_R(0.0));
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
 }
 
@@ -1198,7 +1198,7 @@ static void test_spring_probe_creeping(void)
     /* creeping plates that stop and hold: no verdict, the suspicion stays for DIAG_PROBE_MAX_N of them */
     suspect_spring(&dd, &d, &cfg, &snap);
     phi = TV_R(0.40);
-    for (k = 50; k < 2000 && dd.pc_w > TV_R(0.0);) {
+    for (k = 50; k < 2000 && dd.pc.w > TV_R(0.0);) {
         int p;
         for (p = 0; p < (int)DIAG_JAM_WINDOW; ++p, ++k) { /* creeps (no probe allowed meanwhile) */
             phi -= TV_R(0.00025);
@@ -1215,7 +1215,7 @@ static void test_spring_probe_creeping(void)
         TV_CHECK_EQ_INT(dd.probe_creep_n, holds < (int)DIAG_PROBE_MAX_N ? holds : 0);
     }
     TV_CHECK_EQ_INT(holds, (int)DIAG_PROBE_MAX_N);
-    TV_CHECK(dd.pc_w == TV_R(0.0)); /* then the suspicion is over */
+    TV_CHECK(dd.pc.w == TV_R(0.0)); /* then the suspicion is over */
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
 }
 
@@ -1260,7 +1260,7 @@ static void test_spring_probe(void)
     for (k = 201; k < 251; ++k) {
         feed_closing(&dd, &d, &snap, k, TV_R(0.3) * TV_R(0.28));
     }
-    TV_CHECK(dd.pc_w >= cfg.probe_min_weight);
+    TV_CHECK(dd.pc.w >= cfg.probe_min_weight);
     /* the plate comes to rest: the jam window must see it still first (DIAG_JAM_WINDOW samples) */
     n = 0;
     for (k = 251; k < 251 + (int)DIAG_JAM_WINDOW + 1 && n == 0; ++k) {
@@ -1316,7 +1316,7 @@ static void test_spring_probe(void)
     for (n = 0; n < 400; ++n, ++k) {
         feed_closing(&dd, &d, &snap, k, TV_R(0.0));
     }
-    TV_CHECK(dd.pc_sy < cfg.probe_trigger * dd.pc_ss);
+    TV_CHECK(dd.pc.sy < cfg.probe_trigger * dd.pc.ss);
     TV_CHECK_EQ_INT(probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.0), &T), 0);
     TV_CHECK_EQ_INT(dd.probe_n, 0);
     for (n = 0; n < (int)DIAG_PARAM_DECIM; ++n) {
@@ -1333,7 +1333,7 @@ static void test_spring_probe(void)
     /* the first probe begins while the jam window still holds the closing samples' motion
      * toward limp-home (creeping: its hold is no evidence), the second on the still plate */
     TV_CHECK_EQ_INT(n, 2 * (int)DIAG_PROBE_MAX_STEPS);
-    TV_CHECK(dd.pc_w == TV_R(0.0));
+    TV_CHECK(dd.pc.w == TV_R(0.0));
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
     /* not allowed (limited authority, near a stop or limp-home, open loop): no probe */
     suspect_spring(&dd, &d, &cfg, &snap);
@@ -1412,7 +1412,7 @@ static void test_spring_probe(void)
      * DIAG_PROBE_CREEP_RAD), ended DIAG_PROBE_MAX_STEPS steps later */
     TV_CHECK_EQ_INT(k, 50 + (int)DIAG_PROBE_MAX_STEPS);
     TV_CHECK_EQ_INT(dd.probe_n, 1);
-    TV_CHECK(dd.pc_w >= cfg.probe_min_weight); /* still suspected */
+    TV_CHECK(dd.pc.w >= cfg.probe_min_weight); /* still suspected */
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
     n = 0;
     for (++k; k < 300 && n == 0; ++k) {
@@ -1427,7 +1427,7 @@ static void test_spring_probe(void)
         ++k;
     }
     TV_CHECK_EQ_INT(dd.probe_n, 0);
-    TV_CHECK(dd.pc_w == TV_R(0.0)); /* held: the suspicion is over */
+    TV_CHECK(dd.pc.w == TV_R(0.0)); /* held: the suspicion is over */
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A02) && !diag_confirmed(&d, DIAG_DTC_P1A02));
 }
 

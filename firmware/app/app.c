@@ -654,7 +654,7 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
             }
         }
         if (c->mode == APP_MODE_POSITION && out->bridge_enable && was_on && action == DIAG_ACTION_NONE && tq_ok &&
-            (app->ddet.pc_w > TV_R(0.0) || app->ddet.po_w > TV_R(0.0))) {
+            (app->ddet.pc.w > TV_R(0.0) || app->ddet.po.w > TV_R(0.0))) {
             /* the spring probe: a plate held after motion that read as a weak spring (or, closing,
              * as more friction; opening, as less) gets the model's spring torque plus 0.65 of its
              * sliding friction (the adapted levels from before the suspicion) for a few periods,

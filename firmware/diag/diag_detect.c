@@ -511,18 +511,14 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
         dd->aw_fs = lam * dd->aw_fs + friction_Nm;
         dd->aw_fy = lam * dd->aw_fy + (w_rad_s > TV_R(0.0) ? -y : y);
     }
-    if (w_rad_s * spring_Nm < TV_R(0.0)) {
-        /* toward limp-home alone (closing above it): a weaker spring and more friction both leave a
-         * positive torque (collinear), the spring probe tells them apart */
-        dd->pc_w = lam * dd->pc_w + TV_R(1.0);
-        dd->pc_ss = lam * dd->pc_ss + spring_Nm * spring_Nm;
-        dd->pc_sy = lam * dd->pc_sy + spring_Nm * y;
-    } else {
-        /* away from limp-home alone (opening above it): a weaker spring and less friction both
-         * leave a positive torque */
-        dd->po_w = lam * dd->po_w + TV_R(1.0);
-        dd->po_ss = lam * dd->po_ss + spring_Nm * spring_Nm;
-        dd->po_sy = lam * dd->po_sy + spring_Nm * y;
+    {
+        /* toward limp-home alone (closing above it): a weaker spring and more friction both leave
+         * a positive torque (collinear), the spring probe tells them apart; away from it (opening
+         * above it): a weaker spring and less friction both do */
+        diag_spring_reading_t *r = w_rad_s * spring_Nm < TV_R(0.0) ? &dd->pc : &dd->po;
+        r->w = lam * r->w + TV_R(1.0);
+        r->ss = lam * r->ss + spring_Nm * spring_Nm;
+        r->sy = lam * r->sy + spring_Nm * y;
     }
 }
 
@@ -786,14 +782,20 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
     }
 }
 
+/* 1 when a spring probe reading suspects a weak spring: enough weight, a >= probe_trigger */
+static int reading_suspects(const diag_detect_t *dd, const diag_spring_reading_t *r)
+{
+    return r->w >= dd->cfg.probe_min_weight && r->sy >= dd->cfg.probe_trigger * r->ss;
+}
+
 /* The spring probe's reading that raised the suspicion: the larger of the closing and the
  * opening one among those with enough weight (the spring deficit a either shows). */
 static tv_real_t probe_reading(const diag_detect_t *dd)
 {
-    const int cl = dd->pc_w >= dd->cfg.probe_min_weight && dd->pc_ss > TV_R(0.0);
-    const int op = dd->po_w >= dd->cfg.probe_min_weight && dd->po_ss > TV_R(0.0);
-    const tv_real_t a_cl = cl ? dd->pc_sy / dd->pc_ss : TV_R(0.0);
-    const tv_real_t a_op = op ? dd->po_sy / dd->po_ss : TV_R(0.0);
+    const int cl = dd->pc.w >= dd->cfg.probe_min_weight && dd->pc.ss > TV_R(0.0);
+    const int op = dd->po.w >= dd->cfg.probe_min_weight && dd->po.ss > TV_R(0.0);
+    const tv_real_t a_cl = cl ? dd->pc.sy / dd->pc.ss : TV_R(0.0);
+    const tv_real_t a_op = op ? dd->po.sy / dd->po.ss : TV_R(0.0);
     return (op && (!cl || a_op > a_cl)) ? a_op : a_cl;
 }
 
@@ -806,8 +808,7 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
         return 0;
     }
     /* nothing suspected: the common case, one comparison */
-    if ((!(dd->pc_w >= dd->cfg.probe_min_weight) || !(dd->pc_sy >= dd->cfg.probe_trigger * dd->pc_ss)) &&
-        (!(dd->po_w >= dd->cfg.probe_min_weight) || !(dd->po_sy >= dd->cfg.probe_trigger * dd->po_ss))) {
+    if (!reading_suspects(dd, &dd->pc) && !reading_suspects(dd, &dd->po)) {
         /* the adapted levels as they are before a suspicion (the fault pulls them while it is seen) */
         if (TV_IS_FINITE(preload_rel) && TV_IS_FINITE(friction_rel)) {
             dd->probe_pre_ref = preload_rel;
@@ -854,12 +855,8 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
             }
             dd->probe_n = 0u;
             dd->probe_creep_n = 0u;
-            dd->pc_w = TV_R(0.0);
-            dd->pc_ss = TV_R(0.0);
-            dd->pc_sy = TV_R(0.0);
-            dd->po_w = TV_R(0.0);
-            dd->po_ss = TV_R(0.0);
-            dd->po_sy = TV_R(0.0);
+            memset(&dd->pc, 0, sizeof dd->pc);
+            memset(&dd->po, 0, sizeof dd->po);
             return 0;
         }
         ++dd->probe_t;

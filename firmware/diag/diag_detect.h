@@ -361,6 +361,14 @@ typedef struct {
                                        filter's model is the unit's own); 0: the class's (default) */
 } diag_detect_config_t;
 
+/** A spring probe reading: the signature's samples of one direction regressed on the model's
+ * spring torque s alone, a = sy / ss (decayed as the signature). */
+typedef struct {
+    tv_real_t w;  /**< decayed count of samples */
+    tv_real_t ss; /**< spring regressor squared */
+    tv_real_t sy; /**< spring regressor x unexplained torque */
+} diag_spring_reading_t;
+
 /** Detector state. Allocate statically; diag_detect_init() before use. */
 typedef struct {
     diag_detect_config_t cfg;
@@ -405,12 +413,8 @@ typedef struct {
     tv_real_t aw_w;        /**< away reading: decayed count of the signature's samples moving away from limp-home, */
     tv_real_t aw_fy;       /**<   their unexplained torque along the friction (opposing the motion) [N m] */
     uint8_t aw_last;       /**< 1 when the signature's newest sample was one of them */
-    tv_real_t pc_w;        /**< spring probe: decayed count of the signature's samples toward limp-home, */
-    tv_real_t pc_ss;       /**<   their spring regressor squared, */
-    tv_real_t pc_sy;       /**<   spring regressor x unexplained torque */
-    tv_real_t po_w;        /**< ... the same of its samples away from limp-home: decayed count, */
-    tv_real_t po_ss;       /**<   their spring regressor squared, */
-    tv_real_t po_sy;       /**<   spring regressor x unexplained torque */
+    diag_spring_reading_t pc; /**< spring probe: the signature's samples toward limp-home */
+    diag_spring_reading_t po; /**< spring probe: its samples away from limp-home */
     tv_real_t probe_phi0;  /**< the angle at the probe's start [rad] */
     tv_real_t probe_T;     /**< the probe's torque [N m] */
     tv_real_t probe_pre_ref;  /**< the estimator's 1 + m while nothing was suspected [-] */
