@@ -807,7 +807,7 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
     if (dd == NULL || d == NULL || snap == NULL || torque_Nm == NULL) {
         return 0;
     }
-    /* nothing suspected: the common case, one comparison */
+    /* nothing suspected: the common case, two comparisons */
     if (!reading_suspects(dd, &dd->pc) && !reading_suspects(dd, &dd->po)) {
         /* the adapted levels as they are before a suspicion (the fault pulls them while it is seen) */
         if (TV_IS_FINITE(preload_rel) && TV_IS_FINITE(friction_rel)) {

@@ -77,8 +77,9 @@
  *     regressed on the spring alone, each direction apart. A weaker spring leaves a torque away
  *     from limp-home in either direction (a > 0 in both readings); more friction one against the
  *     motion, along the spring's in closing samples (collinear: the signature does not judge
- *     them), against it in opening ones (less friction the reverse). When either reading a = sum(s y) / sum(s s)
- *     (the larger, if both) reaches probe_trigger (over probe_min_weight decayed samples) and
+ *     them), against it in opening ones (less friction the reverse). When either reading
+ *     a = sum(s y) / sum(s s) (the larger, if both) reaches probe_trigger (over probe_min_weight
+ *     decayed samples) and
  *     the plate then rests (the estimate moved less than 0.2 probe_move_rad away from limp-home
  *     over the jam window, w < DIAG_PROBE_REST_W_RAD_S that way) or creeps back toward
  *     limp-home (DIAG_PROBE_CREEP_RAD, DIAG_PROBE_CREEP_W_RAD_S) where the caller
@@ -91,7 +92,8 @@
  *     turns, if it crept) is one failed check of P1A02 (value 1 - a) and ends the probe; the next
  *     starts when the plate rests again. Moving DIAG_PROBE_UNSURE_FRAC of that to less than it
  *     gives no verdict but keeps the suspicion. A probe that holds gives no verdict and ends the
- *     suspicion (one begun on a creeping plate keeps it), as do DIAG_PROBE_MAX_N moving probes. While probes have moved the plate, diag_param_check() does not pass P1A02.
+ *     suspicion (one begun on a creeping plate keeps it), as do DIAG_PROBE_MAX_N moving probes.
+ *     While probes have moved the plate, diag_param_check() does not pass P1A02.
  *   BRIDGE DIRECTION LOST (P1A03), in the open-winding check's samples (same gate): the terminal
  *     voltage the measured current implies, v = e + (i1 - a_T i0) / b_T (e = n Ke times the
  *     differentiated measured angle, the one the estimator gets: the estimate's velocity can be
