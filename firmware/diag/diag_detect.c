@@ -646,14 +646,21 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
             const tv_real_t share = (preload_rel - TV_R(1.0)) * dd->m0_Nm * dd->aw_w;
             fa = friction_rel * (TV_R(1.0) + (dd->aw_fy + (share > TV_R(0.0) ? share : TV_R(0.0))) / dd->aw_fs);
         }
-        if (fast && pf < dd->cfg.preload_fast_low && ff <= dd->cfg.preload_fast_friction_max) {
+        const int low = fast && pf < dd->cfg.preload_fast_low && ff <= dd->cfg.preload_fast_friction_max;
+        if (low && ff > DIAG_PRELOAD_FAST_CLEAR) {
+            dd->fast_m_amb = (uint8_t)(dd->fast_m_amb + (dd->fast_m_amb < 0xFFu ? 1u : 0u));
+        } else if (fast) {
+            dd->fast_m_amb = 0u;
+        }
+        if (low && (ff <= DIAG_PRELOAD_FAST_CLEAR || dd->fast_m_amb >= DIAG_PRELOAD_FAST_AMBIG_HOLD)) {
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, pf);
         } else if (away && fa < dd->cfg.away_friction_min) {
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, fa);
         } else if (slow && dd->slow_m_run >= dd->cfg.param_slow_hold) {
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_FAIL, snap, preload_rel);
-        } else if (dd->probe_n > 0u) {
-            /* a spring probe has moved the plate: its sequence decides (the PID's pull back after
+        } else if (low || dd->probe_n > 0u) {
+            /* an ambiguous low reading (DIAG_PRELOAD_FAST_CLEAR) not yet held: no verdict; or a
+             * spring probe has moved the plate: its sequence decides (the PID's pull back after
              * each probe is motion whose adapted level or signature would pass meanwhile) */
         } else if (slow && preload_rel >= dd->cfg.preload_low_rel) {
             (void)diag_report(d, DIAG_DTC_P1A02, DIAG_PASS, snap, preload_rel);
