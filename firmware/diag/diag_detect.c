@@ -465,6 +465,22 @@ static void torque_pause_rescale(diag_detect_t *dd)
     }
 }
 
+/* The estimated angle's motion over the jam check's window (the newest entry is this step's,
+ * diag_jam_check() runs first) [rad]. */
+static tv_real_t window_moved(const diag_detect_t *dd)
+{
+    const tv_real_t newest = dd->phi_hist[(dd->hist_i + DIAG_JAM_WINDOW - 1u) % DIAG_JAM_WINDOW];
+    return TV_FABS(newest - dd->phi_hist[dd->hist_i]);
+}
+
+/* One sample into a spring probe reading: the spring regressor s and the unexplained torque y. */
+static void reading_feed(diag_spring_reading_t *r, tv_real_t lam, tv_real_t s, tv_real_t y)
+{
+    r->w = lam * r->w + TV_R(1.0);
+    r->ss = lam * r->ss + s * s;
+    r->sy = lam * r->sy + s * y;
+}
+
 void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
                       tv_real_t spring_Nm, tv_real_t friction_Nm)
 {
@@ -479,13 +495,8 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
     if (TV_FABS(torque_Nm) > dd->cfg.torque_clip_Nm || dd->hist_n < DIAG_JAM_WINDOW) {
         return;
     }
-    {
-        /* the plate really moves: the estimated angle over the jam check's window (the newest
-         * entry is this step's, diag_jam_check() runs first) */
-        const tv_real_t newest = dd->phi_hist[(dd->hist_i + DIAG_JAM_WINDOW - 1u) % DIAG_JAM_WINDOW];
-        if (TV_FABS(newest - dd->phi_hist[dd->hist_i]) < dd->cfg.torque_move_min_rad) {
-            return;
-        }
+    if (window_moved(dd) < dd->cfg.torque_move_min_rad) {
+        return; /* the plate does not really move */
     }
     y = torque_Nm;
     if (dd->tq_age > DIAG_TORQUE_PAUSE) {
@@ -515,10 +526,27 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
         /* toward limp-home alone (closing above it): a weaker spring and more friction both leave
          * a positive torque (collinear), the spring probe tells them apart; away from it (opening
          * above it): a weaker spring and less friction both do */
-        diag_spring_reading_t *r = w_rad_s * spring_Nm < TV_R(0.0) ? &dd->pc : &dd->po;
-        r->w = lam * r->w + TV_R(1.0);
-        r->ss = lam * r->ss + spring_Nm * spring_Nm;
-        r->sy = lam * r->sy + spring_Nm * y;
+        reading_feed(w_rad_s * spring_Nm < TV_R(0.0) ? &dd->pc : &dd->po, lam, spring_Nm, y);
+    }
+}
+
+void diag_torque_feed_slow(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
+                           tv_real_t spring_Nm, tv_real_t u_V)
+{
+    tv_real_t moved;
+    if (dd == NULL || !active || !TV_IS_FINITE(w_rad_s) || !TV_IS_FINITE(torque_Nm) || !TV_IS_FINITE(accel_Nm) ||
+        !TV_IS_FINITE(spring_Nm) || !TV_IS_FINITE(u_V) || dd->hist_n < DIAG_JAM_WINDOW || dd->probe_t != 0u ||
+        TV_FABS(accel_Nm) > dd->cfg.torque_accel_max_Nm || TV_FABS(torque_Nm) > dd->cfg.torque_clip_Nm) {
+        return;
+    }
+    moved = window_moved(dd);
+    if (TV_FABS(w_rad_s) >= dd->cfg.torque_w_min_rad_s && moved >= dd->cfg.torque_move_min_rad) {
+        return; /* diag_torque_feed()'s sample */
+    }
+    /* toward limp-home, with the drive pulling that way too (a plate the controller pulls back) */
+    if (TV_FABS(w_rad_s) >= DIAG_PROBE_SLOW_W_RAD_S && moved >= DIAG_PROBE_SLOW_MOVE_RAD && w_rad_s * spring_Nm < TV_R(0.0) &&
+        u_V * spring_Nm < TV_R(0.0)) {
+        reading_feed(&dd->pc, dd->tq_lam, spring_Nm, torque_Nm);
     }
 }
 

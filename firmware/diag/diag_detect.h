@@ -79,7 +79,8 @@
  *     motion, along the spring's in closing samples (collinear: the signature does not judge
  *     them), against it in opening ones (less friction the reverse). When either reading
  *     a = sum(s y) / sum(s s) (the larger, if both) reaches probe_trigger (over probe_min_weight
- *     decayed samples) and
+ *     decayed samples; the closing reading also takes slower samples of a plate the drive pulls
+ *     back toward limp-home: diag_torque_feed_slow()) and
  *     the plate then rests (the estimate moved less than 0.2 probe_move_rad away from limp-home
  *     over the jam window, w < DIAG_PROBE_REST_W_RAD_S that way) or creeps back toward
  *     limp-home (DIAG_PROBE_CREEP_RAD, DIAG_PROBE_CREEP_W_RAD_S) where the caller
@@ -630,6 +631,28 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
 #define DIAG_PRELOAD_FAST_CLEAR TV_R(1.3)
 /** Ambiguous signature checks in a row (DIAG_PRELOAD_FAST_CLEAR) before they fail P1A02. */
 #define DIAG_PRELOAD_FAST_AMBIG_HOLD 3u
+
+/**
+ * Feed one SLOW sample to the spring probe's closing reading (see the file comment), once per step
+ * after diag_torque_feed() with the same sample: one too slow for the signature (|w_rad_s| <
+ * torque_w_min_rad_s, or the angle moved less than torque_move_min_rad over the jam window) that
+ * still moves toward limp-home (|w_rad_s| >= DIAG_PROBE_SLOW_W_RAD_S, moved >=
+ * DIAG_PROBE_SLOW_MOVE_RAD) while the drive also pulls toward limp-home (a plate the controller
+ * pulls back after an overshoot: without its spring it creeps where the model has it return).
+ * Nothing happens when active is 0, an argument is not finite, a probe runs, |accel_Nm| >
+ * torque_accel_max_Nm or |torque_Nm| > torque_clip_Nm.
+ * @param active     as for diag_torque_feed()
+ * @param w_rad_s    the estimated velocity [rad/s]
+ * @param torque_Nm  the torque the model did not explain (diag_torque_feed()) [N m]
+ * @param accel_Nm   the model's net torque over the period (diag_torque_feed()) [N m]
+ * @param spring_Nm  the model's spring torque at the angle (diag_torque_feed()) [N m]
+ * @param u_V        the voltage the bridge applied over the period [V]
+ */
+void diag_torque_feed_slow(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
+                           tv_real_t spring_Nm, tv_real_t u_V);
+/** diag_torque_feed_slow(): the least |velocity| [rad/s] and motion over the jam window [rad] fed. */
+#define DIAG_PROBE_SLOW_W_RAD_S TV_R(0.15)
+#define DIAG_PROBE_SLOW_MOVE_RAD TV_R(0.0008)
 
 /** Steps a spring probe lasts at most (the plate held: no evidence). */
 #define DIAG_PROBE_MAX_STEPS 15u
