@@ -1219,6 +1219,90 @@ static void suspect_spring(diag_detect_t *dd, diag_t *d, const diag_detect_confi
     }
 }
 
+/* One slow sample of a plate closing from 0.8 rad by step rad per step (the jam window's history
+ * first), estimated speed w, the model's spring torque 0.3 N m, unexplained torque y, the bridge
+ * applying u: diag_torque_feed() then diag_torque_feed_slow(), as the application calls them. */
+static void feed_slow(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, int k, tv_real_t w, tv_real_t step, tv_real_t y,
+                      tv_real_t u)
+{
+    snap->t_us = (uint64_t)k * 1000u;
+    diag_jam_check(dd, d, 0, TV_R(0.0), TV_R(0.8) - step * (tv_real_t)k, TV_R(0.0), TV_R(1.0), snap);
+    diag_torque_feed(dd, 1, w, y, TV_R(0.0), TV_R(0.3), TV_R(0.2));
+    diag_torque_feed_slow(dd, 1, w, y, TV_R(0.0), TV_R(0.3), u);
+}
+
+/* The spring probe's closing reading from SLOW samples (diag_torque_feed_slow()): a plate creeping
+ * toward limp-home at 0.3 rad/s (0.3 mrad a step: 2.1 mrad over the 8-sample jam window) while the
+ * drive pulls that way too (u = -1 V above limp-home), with an unexplained torque 0.3 x the
+ * spring's (a spring deficit a = 0.3). The signature takes none of these samples (slower than
+ * 1 rad/s, and 2.1 < 4 mrad); the closing reading takes every one from the 8th step (the window
+ * full), reads a = 0.3, reaches probe_min_weight and a probe starts once the plate rests. Not fed:
+ * the drive pushing away from limp-home (+1 V); the plate moving away from it; slower than
+ * DIAG_PROBE_SLOW_W_RAD_S (0.1 rad/s); a window that moved less than DIAG_PROBE_SLOW_MOVE_RAD (0.1
+ * mrad a step: 0.7 mrad); while a probe runs. A sample fast enough for the signature (2 rad/s,
+ * 1 mrad a step) is fed once, by diag_torque_feed(): the closing reading's weight equals the
+ * signature's. */
+static void test_spring_probe_slow_feed(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    static const struct {
+        double w, step, u;
+    } not_fed[] = {{-0.3, 0.0003, 1.0}, {0.3, -0.0003, -1.0}, {-0.1, 0.0003, -1.0}, {-0.3, 0.0001, -1.0}};
+    tv_real_t T = TV_R(0.0);
+    size_t c;
+    int k;
+    int n = 0;
+    diag_detect_config_default(&cfg);
+    memset(&snap, 0, sizeof snap);
+    TV_CHECK_NEAR(DIAG_PROBE_SLOW_W_RAD_S, 0.15, 1e-6);
+    TV_CHECK_NEAR(DIAG_PROBE_SLOW_MOVE_RAD, 0.0008, 1e-9);
+    diag_init(&d);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    for (k = 0; k < 7; ++k) {
+        feed_slow(&dd, &d, &snap, k, TV_R(-0.3), TV_R(0.0003), TV_R(0.3) * TV_R(0.3), TV_R(-1.0));
+    }
+    TV_CHECK(dd.pc.w == TV_R(0.0)); /* the window not yet full */
+    feed_slow(&dd, &d, &snap, 7, TV_R(-0.3), TV_R(0.0003), TV_R(0.3) * TV_R(0.3), TV_R(-1.0));
+    TV_CHECK_NEAR(dd.pc.w, 1.0, 1e-6);
+    for (k = 8; k < 40; ++k) {
+        feed_slow(&dd, &d, &snap, k, TV_R(-0.3), TV_R(0.0003), TV_R(0.3) * TV_R(0.3), TV_R(-1.0));
+    }
+    TV_CHECK(dd.tq_w == TV_R(0.0) && dd.po.w == TV_R(0.0)); /* neither the signature nor the opening reading */
+    TV_CHECK(dd.pc.w >= cfg.probe_min_weight);
+    TV_CHECK_NEAR(dd.pc.sy / dd.pc.ss, 0.3, 1e-4);
+    /* the plate rests at 0.768 rad: a probe starts once the jam window is still */
+    for (k = 40; k < 40 + (int)DIAG_JAM_WINDOW + 1 && n == 0; ++k) {
+        n = probe_step(&dd, &d, &snap, k, 1, TV_R(0.8) - TV_R(0.0003) * TV_R(40.0), TV_R(1.0), TV_R(1.0), &T);
+    }
+    TV_CHECK_EQ_INT(n, 1);
+    TV_CHECK(dd.probe_t > 0u);
+    {
+        /* while the probe runs: not fed */
+        const tv_real_t w0 = dd.pc.w;
+        diag_torque_feed_slow(&dd, 1, TV_R(-0.3), TV_R(0.09), TV_R(0.0), TV_R(0.3), TV_R(-1.0));
+        TV_CHECK(dd.pc.w == w0);
+    }
+    for (c = 0; c < sizeof not_fed / sizeof not_fed[0]; ++c) {
+        diag_init(&d);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        for (k = 0; k < 40; ++k) {
+            feed_slow(&dd, &d, &snap, k, (tv_real_t)not_fed[c].w, (tv_real_t)not_fed[c].step, TV_R(0.09), (tv_real_t)not_fed[c].u);
+        }
+        TV_CHECK(dd.pc.w == TV_R(0.0) && dd.po.w == TV_R(0.0) && dd.tq_w == TV_R(0.0));
+    }
+    /* fast enough for the signature: fed once */
+    diag_init(&d);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    for (k = 0; k < 40; ++k) {
+        feed_slow(&dd, &d, &snap, k, TV_R(-2.0), TV_R(0.001), TV_R(0.09), TV_R(-1.0));
+    }
+    TV_CHECK(dd.tq_w > TV_R(0.0));
+    TV_CHECK_NEAR(dd.pc.w, dd.tq_w, 1e-6);
+}
+
 /* A plate CREEPING toward limp-home (0.25 mrad per step, estimated 0.25 rad/s: the window moved
  * 1.75 mrad, below DIAG_PROBE_CREEP_RAD 8 mrad) is probed. Without its spring it goes on 0.75 mrad
  * toward limp-home, turns, and moves 0.4 mrad per step away: its motion counts from the turn, so
@@ -1817,6 +1901,7 @@ int main(void)
     TV_TEST_RUN(test_spring_probe);
     TV_TEST_RUN(test_spring_probe_opening);
     TV_TEST_RUN(test_spring_probe_creeping);
+    TV_TEST_RUN(test_spring_probe_slow_feed);
     TV_TEST_RUN(test_spring_break_while_holding);
     TV_TEST_RUN(test_friction_plus_25_percent_identified);
     TV_TEST_RUN(test_motor_constant_signature);
