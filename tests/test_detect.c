@@ -452,7 +452,7 @@ static void feed_synthetic(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, 
     const tv_real_t xf = w > TV_R(0.0) ? -fr : fr;
     snap->t_us = (uint64_t)k * 1000u;
     diag_jam_check(dd, d, 0, TV_R(0.0), TV_R(0.001) * (tv_real_t)k, TV_R(0.0), TV_R(1.0), snap); /* the motion history */
-    diag_torque_feed(dd, 1, w, a * s + e * xf, TV_R(0.0), s, fr);
+    diag_torque_feed(dd, 1, w, a * s + e * xf, TV_R(0.0), s, fr, TV_R(0.0));
     diag_param_check(dd, d, 1, w, fr_rel, TV_R(0.02), pre_rel, TV_R(0.01), snap);
 }
 
@@ -555,8 +555,8 @@ static void test_torque_signature(void)
     for (k = 0; k < 2000; ++k) {
         const tv_real_t w = (k % 80) < 40 ? TV_R(2.0) : TV_R(-2.0);
         diag_jam_check(&dd, &d, 0, TV_R(0.0), TV_R(0.5), TV_R(0.0), TV_R(1.0), &snap);
-        diag_torque_feed(&dd, 1, w, TV_R(-0.2), TV_R(0.0), TV_R(0.28), TV_R(0.2));
-        diag_torque_feed(&dd, 1, w, TV_R(0.61), TV_R(0.0), TV_R(0.28), TV_R(0.2));
+        diag_torque_feed(&dd, 1, w, TV_R(-0.2), TV_R(0.0), TV_R(0.28), TV_R(0.2), TV_R(0.0));
+        diag_torque_feed(&dd, 1, w, TV_R(0.61), TV_R(0.0), TV_R(0.28), TV_R(0.2), TV_R(0.0));
         diag_param_check(&dd, &d, 1, w, TV_R(1.0), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
     }
     TV_CHECK(dd.tq_w == TV_R(0.0) && !diag_pending(&d, DIAG_DTC_P1A02));
@@ -728,7 +728,7 @@ static void test_away_reading(void)
         int k;
         for (k = 0; k < 200; ++k) {
             diag_jam_check(&dd, &d, 0, TV_R(0.0), TV_R(0.5) + TV_R(0.006) * (tv_real_t)k, TV_R(0.0), TV_R(1.0), &snap);
-            diag_torque_feed(&dd, 1, TV_R(6.0), TV_R(0.2), TV_R(0.0), TV_R(0.28), TV_R(0.2));
+            diag_torque_feed(&dd, 1, TV_R(6.0), TV_R(0.2), TV_R(0.0), TV_R(0.28), TV_R(0.2), TV_R(0.0));
         }
         TV_CHECK(dd.aw_w == TV_R(0.0) && dd.tq_w > TV_R(30.0));
     }
@@ -741,7 +741,7 @@ static tv_real_t feed_away(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, 
     int k;
     for (k = 0; k < n; ++k, phi0 += TV_R(0.002)) {
         diag_jam_check(dd, d, 0, TV_R(0.0), phi0, TV_R(0.0), TV_R(1.0), snap);
-        diag_torque_feed(dd, 1, TV_R(2.0), y, TV_R(0.0), TV_R(0.28), TV_R(0.2));
+        diag_torque_feed(dd, 1, TV_R(2.0), y, TV_R(0.0), TV_R(0.28), TV_R(0.2), TV_R(0.0));
     }
     return phi0;
 }
@@ -1101,7 +1101,7 @@ static void feed_closing(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, in
 {
     snap->t_us = (uint64_t)k * 1000u;
     diag_jam_check(dd, d, 0, TV_R(0.0), TV_R(0.4) - TV_R(0.001) * (tv_real_t)k, TV_R(0.0), TV_R(1.0), snap);
-    diag_torque_feed(dd, 1, TV_R(-2.0), y, TV_R(0.0), TV_R(0.28), TV_R(0.2));
+    diag_torque_feed(dd, 1, TV_R(-2.0), y, TV_R(0.0), TV_R(0.28), TV_R(0.2), TV_R(0.0));
 }
 
 /* One step of a held plate at phi (the jam check's history, then the probe with the nominal
@@ -1127,7 +1127,7 @@ static void feed_opening(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, in
 {
     snap->t_us = (uint64_t)k * 1000u;
     diag_jam_check(dd, d, 0, TV_R(0.0), TV_R(0.1) + TV_R(0.001) * (tv_real_t)k, TV_R(0.0), TV_R(1.0), snap);
-    diag_torque_feed(dd, 1, TV_R(2.0), y, TV_R(0.0), TV_R(0.28), TV_R(0.2));
+    diag_torque_feed(dd, 1, TV_R(2.0), y, TV_R(0.0), TV_R(0.28), TV_R(0.2), TV_R(0.0));
 }
 
 /* The probe's opening reading. A spring deficit leaves y = a s whichever way the plate moves:
@@ -1163,14 +1163,14 @@ static void test_spring_probe_opening(void)
         for (j = 0; j < 20; ++j) {
             snap.t_us = (uint64_t)j * 1000u;
             diag_jam_check(&below, &d, 0, TV_R(0.0), -TV_R(0.06) - TV_R(0.001) * (tv_real_t)j, TV_R(0.0), TV_R(1.0), &snap);
-            diag_torque_feed(&below, 1, -TV_R(2.0), -TV_R(0.3) * TV_R(0.28), TV_R(0.0), -TV_R(0.28), TV_R(0.2));
+            diag_torque_feed(&below, 1, -TV_R(2.0), -TV_R(0.3) * TV_R(0.28), TV_R(0.0), -TV_R(0.28), TV_R(0.2), TV_R(0.0));
         }
         TV_CHECK(below.po.w > TV_R(0.0) && below.pc.w == TV_R(0.0));
         TV_CHECK_NEAR(below.po.sy / below.po.ss, 0.3, 1e-5);
         for (j = 20; j < 40; ++j) {
             snap.t_us = (uint64_t)j * 1000u;
             diag_jam_check(&below, &d, 0, TV_R(0.0), -TV_R(0.08) + TV_R(0.001) * (tv_real_t)(j - 20), TV_R(0.0), TV_R(1.0), &snap);
-            diag_torque_feed(&below, 1, TV_R(2.0), TV_R(0.0), TV_R(0.0), -TV_R(0.28), TV_R(0.2));
+            diag_torque_feed(&below, 1, TV_R(2.0), TV_R(0.0), TV_R(0.0), -TV_R(0.28), TV_R(0.2), TV_R(0.0));
         }
         TV_CHECK(below.pc.w > TV_R(0.0));
     }
@@ -1219,19 +1219,18 @@ static void suspect_spring(diag_detect_t *dd, diag_t *d, const diag_detect_confi
     }
 }
 
-/* One slow sample of a plate closing from 0.8 rad by step rad per step (the jam window's history
+/* One sample of a plate closing from 0.8 rad by step rad per step (the jam window's history
  * first), estimated speed w, the model's spring torque 0.3 N m, unexplained torque y, the bridge
- * applying u: diag_torque_feed() then diag_torque_feed_slow(), as the application calls them. */
+ * applying u. */
 static void feed_slow(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, int k, tv_real_t w, tv_real_t step, tv_real_t y,
                       tv_real_t u)
 {
     snap->t_us = (uint64_t)k * 1000u;
     diag_jam_check(dd, d, 0, TV_R(0.0), TV_R(0.8) - step * (tv_real_t)k, TV_R(0.0), TV_R(1.0), snap);
-    diag_torque_feed(dd, 1, w, y, TV_R(0.0), TV_R(0.3), TV_R(0.2));
-    diag_torque_feed_slow(dd, 1, w, y, TV_R(0.0), TV_R(0.3), u);
+    diag_torque_feed(dd, 1, w, y, TV_R(0.0), TV_R(0.3), TV_R(0.2), u);
 }
 
-/* The spring probe's closing reading from SLOW samples (diag_torque_feed_slow()): a plate creeping
+/* The spring probe's closing reading from SLOW samples (diag_torque_feed()): a plate creeping
  * toward limp-home at 0.3 rad/s (0.3 mrad a step: 2.1 mrad over the 8-sample jam window) while the
  * drive pulls that way too (u = -1 V above limp-home), with an unexplained torque 0.3 x the
  * spring's (a spring deficit a = 0.3). The signature takes none of these samples (slower than
@@ -1240,8 +1239,7 @@ static void feed_slow(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, int k
  * the drive pushing away from limp-home (+1 V); the plate moving away from it; slower than
  * DIAG_PROBE_SLOW_W_RAD_S (0.1 rad/s); a window that moved less than DIAG_PROBE_SLOW_MOVE_RAD (0.1
  * mrad a step: 0.7 mrad); while a probe runs. A sample fast enough for the signature (2 rad/s,
- * 1 mrad a step) is fed once, by diag_torque_feed(): the closing reading's weight equals the
- * signature's. */
+ * 1 mrad a step) is fed once, as before: the closing reading's weight equals the signature's. */
 static void test_spring_probe_slow_feed(void)
 {
     static diag_t d;
@@ -1280,10 +1278,19 @@ static void test_spring_probe_slow_feed(void)
     TV_CHECK_EQ_INT(n, 1);
     TV_CHECK(dd.probe_t > 0u);
     {
-        /* while the probe runs: not fed */
+        /* while the probe runs: not fed, though the window moves 2.1 mrad toward limp-home (the
+         * same sample with no probe running is: the control) */
         const tv_real_t w0 = dd.pc.w;
-        diag_torque_feed_slow(&dd, 1, TV_R(-0.3), TV_R(0.09), TV_R(0.0), TV_R(0.3), TV_R(-1.0));
+        int j;
+        for (j = 1; j <= (int)DIAG_JAM_WINDOW; ++j) {
+            snap.t_us += 1000u;
+            diag_jam_check(&dd, &d, 0, TV_R(0.0), TV_R(0.788) - TV_R(0.0003) * (tv_real_t)j, TV_R(0.0), TV_R(1.0), &snap);
+        }
+        diag_torque_feed(&dd, 1, TV_R(-0.3), TV_R(0.09), TV_R(0.0), TV_R(0.3), TV_R(0.2), TV_R(-1.0));
         TV_CHECK(dd.pc.w == w0);
+        dd.probe_t = 0u;
+        diag_torque_feed(&dd, 1, TV_R(-0.3), TV_R(0.09), TV_R(0.0), TV_R(0.3), TV_R(0.2), TV_R(-1.0));
+        TV_CHECK(dd.pc.w > w0);
     }
     for (c = 0; c < sizeof not_fed / sizeof not_fed[0]; ++c) {
         diag_init(&d);

@@ -710,11 +710,8 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
             const tv_real_t m0 = p->M0_Nm * out->preload_rel;
             const tv_real_t j_ts = p->J_kg_m2 / p->Ts_s;
             const tv_real_t spring = (phi > TV_R(0.0) ? m0 : -m0) + p->c_Nm_rad * phi;
-            const tv_real_t unexplained = j_ts * (w - w_pred);
-            const tv_real_t accel = j_ts * (w_pred - snap->x[TVM_W]);
-            diag_torque_feed(&app->ddet, 1, w, unexplained, accel, spring, out->friction_rel * g);
-            /* slower samples of a plate pulled back toward limp-home: the spring probe's closing reading */
-            diag_torque_feed_slow(&app->ddet, 1, w, unexplained, accel, spring, app->u_applied_V);
+            diag_torque_feed(&app->ddet, 1, w, j_ts * (w - w_pred), j_ts * (w_pred - snap->x[TVM_W]), spring,
+                             out->friction_rel * g, app->u_applied_V);
         }
     }
     /* the mechanics are judged in service only: not while the stops are learned, nor during the

@@ -482,21 +482,28 @@ static void reading_feed(diag_spring_reading_t *r, tv_real_t lam, tv_real_t s, t
 }
 
 void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
-                      tv_real_t spring_Nm, tv_real_t friction_Nm)
+                      tv_real_t spring_Nm, tv_real_t friction_Nm, tv_real_t u_V)
 {
     tv_real_t y;
     tv_real_t xf;
     tv_real_t lam;
+    tv_real_t moved;
     if (dd == NULL || !active || !TV_IS_FINITE(w_rad_s) || !TV_IS_FINITE(torque_Nm) || !TV_IS_FINITE(accel_Nm) ||
-        !TV_IS_FINITE(spring_Nm) || !TV_IS_FINITE(friction_Nm) || TV_FABS(w_rad_s) < dd->cfg.torque_w_min_rad_s ||
-        TV_FABS(accel_Nm) > dd->cfg.torque_accel_max_Nm) {
+        !TV_IS_FINITE(spring_Nm) || !TV_IS_FINITE(friction_Nm) || TV_FABS(accel_Nm) > dd->cfg.torque_accel_max_Nm) {
         return;
     }
     if (TV_FABS(torque_Nm) > dd->cfg.torque_clip_Nm || dd->hist_n < DIAG_JAM_WINDOW) {
         return;
     }
-    if (window_moved(dd) < dd->cfg.torque_move_min_rad) {
-        return; /* the plate does not really move */
+    moved = window_moved(dd);
+    if (TV_FABS(w_rad_s) < dd->cfg.torque_w_min_rad_s || moved < dd->cfg.torque_move_min_rad) {
+        /* too slow for the signature; a plate the drive pulls back toward limp-home (without its
+         * spring it creeps where the model has it return) still feeds the closing reading */
+        if (TV_FABS(w_rad_s) >= DIAG_PROBE_SLOW_W_RAD_S && moved >= DIAG_PROBE_SLOW_MOVE_RAD && w_rad_s * spring_Nm < TV_R(0.0) &&
+            u_V * spring_Nm < TV_R(0.0) && dd->probe_t == 0u) {
+            reading_feed(&dd->pc, dd->tq_lam, spring_Nm, torque_Nm);
+        }
+        return;
     }
     y = torque_Nm;
     if (dd->tq_age > DIAG_TORQUE_PAUSE) {
@@ -527,26 +534,6 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
          * a positive torque (collinear), the spring probe tells them apart; away from it (opening
          * above it): a weaker spring and less friction both do */
         reading_feed(w_rad_s * spring_Nm < TV_R(0.0) ? &dd->pc : &dd->po, lam, spring_Nm, y);
-    }
-}
-
-void diag_torque_feed_slow(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
-                           tv_real_t spring_Nm, tv_real_t u_V)
-{
-    tv_real_t moved;
-    if (dd == NULL || !active || !TV_IS_FINITE(w_rad_s) || !TV_IS_FINITE(torque_Nm) || !TV_IS_FINITE(accel_Nm) ||
-        !TV_IS_FINITE(spring_Nm) || !TV_IS_FINITE(u_V) || dd->hist_n < DIAG_JAM_WINDOW || dd->probe_t != 0u ||
-        TV_FABS(accel_Nm) > dd->cfg.torque_accel_max_Nm || TV_FABS(torque_Nm) > dd->cfg.torque_clip_Nm) {
-        return;
-    }
-    moved = window_moved(dd);
-    if (TV_FABS(w_rad_s) >= dd->cfg.torque_w_min_rad_s && moved >= dd->cfg.torque_move_min_rad) {
-        return; /* diag_torque_feed()'s sample */
-    }
-    /* toward limp-home, with the drive pulling that way too (a plate the controller pulls back) */
-    if (TV_FABS(w_rad_s) >= DIAG_PROBE_SLOW_W_RAD_S && moved >= DIAG_PROBE_SLOW_MOVE_RAD && w_rad_s * spring_Nm < TV_R(0.0) &&
-        u_V * spring_Nm < TV_R(0.0)) {
-        reading_feed(&dd->pc, dd->tq_lam, spring_Nm, torque_Nm);
     }
 }
 

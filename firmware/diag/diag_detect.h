@@ -80,7 +80,7 @@
  *     them), against it in opening ones (less friction the reverse). When either reading
  *     a = sum(s y) / sum(s s) (the larger, if both) reaches probe_trigger (over probe_min_weight
  *     decayed samples; the closing reading also takes slower samples of a plate the drive pulls
- *     back toward limp-home: diag_torque_feed_slow()) and
+ *     back toward limp-home: DIAG_PROBE_SLOW_W_RAD_S) and
  *     the plate then rests (the estimate moved less than 0.2 probe_move_rad away from limp-home
  *     over the jam window, w < DIAG_PROBE_REST_W_RAD_S that way) or creeps back toward
  *     limp-home (DIAG_PROBE_CREEP_RAD, DIAG_PROBE_CREEP_W_RAD_S) where the caller
@@ -609,7 +609,9 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
 /**
  * Feed one sample to the torque signature (see the file comment), once per step before
  * diag_param_check(). Nothing happens (no decay either) when active is 0, an argument is not
- * finite, |w_rad_s| < torque_w_min_rad_s or |accel_Nm| > torque_accel_max_Nm.
+ * finite, |w_rad_s| < torque_w_min_rad_s or |accel_Nm| > torque_accel_max_Nm; except that a slower
+ * sample moving toward limp-home while the drive pulls that way too feeds the spring probe's
+ * closing reading (DIAG_PROBE_SLOW_W_RAD_S).
  * @param active       1 when torque_Nm is of this sample: the estimator predicted one period and
  *                     corrected with the angle, the model is the one in service, the plate is away
  *                     from both stops and from limp-home (the caller's margins)
@@ -618,9 +620,11 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
  * @param accel_Nm     the model's net torque over the period: J (w predicted - w previous) / Ts [N m]
  * @param spring_Nm    the model's spring torque at the angle, M0 (1 + m) sp(phi) + c phi [N m]
  * @param friction_Nm  the model's sliding friction level at the velocity, (1 + f) g(w) > 0 [N m]
+ * @param u_V          the voltage the bridge applied over the period [V] (the slow samples' drive
+ *                     direction; 0 feeds no slow sample)
  */
 void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
-                      tv_real_t spring_Nm, tv_real_t friction_Nm);
+                      tv_real_t spring_Nm, tv_real_t friction_Nm, tv_real_t u_V);
 
 /** The signature's friction up to which its low preload fails P1A02 at once [-]. Above it (up to
  * preload_fast_friction_max) the reading is ambiguous: more friction on some units leaks into the
@@ -632,25 +636,10 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
 /** Ambiguous signature checks in a row (DIAG_PRELOAD_FAST_CLEAR) before they fail P1A02. */
 #define DIAG_PRELOAD_FAST_AMBIG_HOLD 3u
 
-/**
- * Feed one SLOW sample to the spring probe's closing reading (see the file comment), once per step
- * after diag_torque_feed() with the same sample: one too slow for the signature (|w_rad_s| <
- * torque_w_min_rad_s, or the angle moved less than torque_move_min_rad over the jam window) that
- * still moves toward limp-home (|w_rad_s| >= DIAG_PROBE_SLOW_W_RAD_S, moved >=
- * DIAG_PROBE_SLOW_MOVE_RAD) while the drive also pulls toward limp-home (a plate the controller
- * pulls back after an overshoot: without its spring it creeps where the model has it return).
- * Nothing happens when active is 0, an argument is not finite, a probe runs, |accel_Nm| >
- * torque_accel_max_Nm or |torque_Nm| > torque_clip_Nm.
- * @param active     as for diag_torque_feed()
- * @param w_rad_s    the estimated velocity [rad/s]
- * @param torque_Nm  the torque the model did not explain (diag_torque_feed()) [N m]
- * @param accel_Nm   the model's net torque over the period (diag_torque_feed()) [N m]
- * @param spring_Nm  the model's spring torque at the angle (diag_torque_feed()) [N m]
- * @param u_V        the voltage the bridge applied over the period [V]
- */
-void diag_torque_feed_slow(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_t torque_Nm, tv_real_t accel_Nm,
-                           tv_real_t spring_Nm, tv_real_t u_V);
-/** diag_torque_feed_slow(): the least |velocity| [rad/s] and motion over the jam window [rad] fed. */
+/** A sample too slow for the signature (diag_torque_feed()) still feeds the spring probe's closing
+ * reading while it moves toward limp-home with |w| >= DIAG_PROBE_SLOW_W_RAD_S [rad/s], the angle
+ * moved >= DIAG_PROBE_SLOW_MOVE_RAD [rad] over the jam window, and the drive pulls toward
+ * limp-home too (a plate the controller pulls back after an overshoot). */
 #define DIAG_PROBE_SLOW_W_RAD_S TV_R(0.15)
 #define DIAG_PROBE_SLOW_MOVE_RAD TV_R(0.0008)
 
