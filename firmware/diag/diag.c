@@ -21,8 +21,9 @@
  * fed samples, and the slowly adapted levels fail only after param_slow_hold checks in a row
  * (diag_detect.h); 100 passed checks heal. P1A02's 3 (5 before): no healthy run of the fault
  * matrix's soak (2,430 x 70 s) ever failed one check of it, and an ambiguous signature (its
- * friction also high) fails only from its 3rd check in a row, so 5 checks as before. P1A03 10 ms (failing checks need a current under a lost direction, a
- * discriminating sample; 1 s to heal). P0562 is checked every DIAG_SUPPLY_DECIM steps (10 ms):
+ * friction also high) fails only from its 3rd check in a row, so 5 checks as before. P1A03
+ * 10 ms (failing checks need a current under a lost direction, a discriminating sample; 1 s to
+ * heal). P0562 is checked every DIAG_SUPPLY_DECIM steps (10 ms):
  * 50 checks = 500 ms below the threshold confirm, 100 checks (1 s) above it heal. P0122 / P0222
  * count low samples (a failed check each) and pass once per fixed DIAG_TPS_CLEAN_WINDOW (500 ms)
  * without one: 5 dropouts confirm unless clean windows come between them (a steady 0 V in 5 ms,
