@@ -179,6 +179,7 @@ void check_config(const ekf_config_t& c, const tvref::Config& r)
         }
     }
     TV_CHECK_NEAR(c.qT_rel_s, r.qT_rel_s, kStoreTol * r.qT_rel_s);
+    TV_CHECK_NEAR(c.impact_timing, r.impact_timing, kStoreTol * r.impact_timing);
     TV_CHECK_NEAR(c.nis_inflate_alpha, r.nis_inflate_alpha, kStoreTol * r.nis_inflate_alpha);
     if (r.nis_inflate_alpha > 0.0) {
         TV_CHECK_NEAR(c.nis_inflate_threshold, r.nis_inflate_threshold, kStoreTol * r.nis_inflate_threshold);
@@ -481,6 +482,7 @@ struct FilterErr {
     double x = 0.0, P = 0.0, innov = 0.0, innov_var = 0.0, nis = 0.0;
     int k_x = 0, k_P = 0;
     long q_inflated = 0; /**< the C filter's predictions with an inflated Q (ekf_health_t::n_q_inflated) */
+    long impacts = 0;    /**< the C filter's predictions that entered a stop (ekf_health_t::n_impact_timing) */
 };
 
 /**
@@ -549,6 +551,7 @@ FilterErr compare_filters(const ekf_config_t& cc, const tvref::Config& rc, const
         ekf_health_t h;
         ekf_health(&c, &h);
         fe.q_inflated = static_cast<long>(h.n_q_inflated);
+        fe.impacts = static_cast<long>(h.n_impact_timing);
     }
     return fe;
 }
@@ -669,6 +672,19 @@ void test_filter_current_angle_matches_reference()
         cc.qT_rel_s = TV_R(3e-5);
         rc.qT_rel_s = 3e-5;
         run_filter_case("current+angle, model-torque noise 3e-5 s", cc, rc);
+    }
+    /* the impact timing (on by default, in both): the experiment enters the closed stop; with 1
+     * instead of the default its variance is 50x larger, so a formula error cannot hide */
+    {
+        tvref::Config rc = tvref::config_default(p, tvref::Setup::CurrentAngle);
+        cc.qT_rel_s = TV_R(0.0);
+        TV_CHECK(cc.impact_timing > TV_R(0.0) && rc.impact_timing > 0.0);
+        cc.impact_timing = TV_R(1.0);
+        rc.impact_timing = 1.0;
+        const FilterErr fe = run_filter_case("current+angle, impact timing 1", cc, rc);
+        printf("  predictions that entered a stop: %ld\n", fe.impacts);
+        TV_CHECK(fe.impacts > 0);
+        cc.impact_timing = EKF_DEFAULT_IMPACT_TIMING;
     }
     /* the consistency-driven inflation (on by default, in both): its average NIS per channel is
      * about 0.3 on this experiment (the voltage noise of Q exceeds what the sensor shows), so

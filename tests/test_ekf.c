@@ -731,6 +731,103 @@ static void test_model_torque_noise(void)
     TV_CHECK_EQ_INT(ekf_init(&fq, &p, &cq), TV_ERR_CONFIG);
 }
 
+/*
+ * Impact timing (ekf_config_t::impact_timing): a prediction that enters a stop adds
+ * impact_timing (h / J M_stop)^2 to the velocity variance and nothing else, M_stop written out
+ * here from the Kelvin-Voigt law of tv_model.h at the predicted state; a prediction that starts
+ * inside the stop or stays outside adds nothing.
+ */
+static void impact_case(const tvm_params_t *p, double phi0, double w0, int expect_enter)
+{
+    ekf_config_t c0;
+    ekf_config_t cg;
+    ekf_t f0;
+    ekf_t fg;
+    ekf_health_t h;
+    const double g = 0.5;
+    double add = 0.0;
+    int a;
+    int b;
+    ekf_config_default(&c0, EKF_SETUP_CURRENT_ANGLE);
+    c0.impact_timing = TV_R(0.0);
+    c0.x0[0] = TV_R(0.0);
+    c0.x0[1] = (tv_real_t)w0;
+    c0.x0[2] = (tv_real_t)phi0;
+    /* a converged filter's covariance, so that the addition is not lost in the start-up's */
+    for (a = 0; a < 3; ++a) {
+        for (b = 0; b < 3; ++b) {
+            c0.P0[a][b] = TV_R(0.0);
+        }
+    }
+    c0.P0[0][0] = TV_R(1e-4);
+    c0.P0[1][1] = TV_R(4e-3);
+    c0.P0[2][2] = TV_R(1e-8);
+    cg = c0;
+    cg.impact_timing = (tv_real_t)g;
+    TV_CHECK_EQ_INT(ekf_init(&f0, p, &c0), TV_OK);
+    TV_CHECK_EQ_INT(ekf_init(&fg, p, &cg), TV_OK);
+    TV_CHECK_EQ_INT(ekf_predict(&f0, TV_R(0.0)), TV_OK);
+    TV_CHECK_EQ_INT(ekf_predict(&fg, TV_R(0.0)), TV_OK);
+    if (expect_enter) {
+        const double phi = (double)f0.x[2];
+        const double w = (double)f0.x[1];
+        const double k = (double)p->k_stop_Nm_rad;
+        const double d = (double)p->d_stop_Nm_s_rad;
+        double m = 0.0;
+        double dw;
+        if (phi < (double)p->phi_closed_rad) {
+            m = k * ((double)p->phi_closed_rad - phi) - d * w;
+        } else {
+            TV_CHECK(phi > (double)p->phi_open_rad);
+            m = k * (phi - (double)p->phi_open_rad) + d * w;
+        }
+        m = m > 0.0 ? m : 0.0;
+        TV_CHECK(m > 0.0);
+        dw = (double)p->Ts_s / (double)p->substeps / (double)p->J_kg_m2 * m;
+        add = g * dw * dw;
+        printf("  impact timing: phi %.4f -> %.4f rad, w %.2f -> %.2f rad/s, M_stop %.3f N m, P_ww %.4g -> %.4g (rad/s)^2\n",
+               phi0, phi, w0, w, m, (double)f0.P[1][1], (double)fg.P[1][1]);
+    }
+    for (a = 0; a < 3; ++a) {
+        TV_CHECK(fg.x[a] == f0.x[a]); /* the mean does not change */
+        for (b = 0; b < 3; ++b) {
+            const double ref = (double)f0.P[a][b] + (a == 1 && b == 1 ? add : 0.0);
+            TV_CHECK_NEAR(fg.P[a][b], ref, fabs(ref) * (TV_REAL_IS_DOUBLE ? 1e-12 : 1e-5) + 1e-18);
+        }
+    }
+    ekf_health(&fg, &h);
+    TV_CHECK_EQ_INT((int)h.n_impact_timing, expect_enter);
+    ekf_health(&f0, &h);
+    TV_CHECK_EQ_INT((int)h.n_impact_timing, 0);
+}
+
+static void test_impact_timing(void)
+{
+    tvm_params_t p;
+    ekf_config_t c;
+    ekf_t f;
+    const tv_real_t zero = TV_R(0.0);
+    tvm_params_default(&p);
+    TV_CHECK(p.stop_exponent == TV_R(0.0)); /* the Kelvin-Voigt law written out in impact_case() */
+    impact_case(&p, (double)p.phi_closed_rad + 0.01, -20.0, 1); /* into the closed stop */
+    impact_case(&p, (double)p.phi_open_rad - 0.01, 20.0, 1);    /* into the open stop */
+    impact_case(&p, (double)p.phi_closed_rad - 0.002, -5.0, 0); /* already inside */
+    impact_case(&p, 0.3, -5.0, 0);                              /* free travel */
+    impact_case(&p, (double)p.phi_closed_rad + 0.01, 5.0, 0);   /* moving away */
+    /* the default is on, and out-of-range values are refused */
+    ekf_config_default(&c, EKF_SETUP_CURRENT_ANGLE);
+    TV_CHECK(c.impact_timing == EKF_DEFAULT_IMPACT_TIMING && c.impact_timing > TV_R(0.0));
+    c.impact_timing = TV_R(-0.01);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &c), TV_ERR_CONFIG);
+    c.impact_timing = TV_R(10.5);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &c), TV_ERR_CONFIG);
+    c.impact_timing = zero / zero;
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &c), TV_ERR_NONFINITE);
+    /* the paper's set-up has none */
+    ekf_config_paper(&c);
+    TV_CHECK(c.impact_timing == TV_R(0.0));
+}
+
 static void test_bad_input_is_rejected_and_state_unchanged(void)
 {
     const tv_real_t zero = TV_R(0.0);
@@ -1439,6 +1536,7 @@ int main(int argc, char **argv)
 #endif
     TV_TEST_RUN(test_contact_inflation);
     TV_TEST_RUN(test_model_torque_noise);
+    TV_TEST_RUN(test_impact_timing);
     TV_TEST_RUN(test_converges_from_a_wrong_initial_state);
     if (s_soak_steps > 0) {
         TV_TEST_RUN(test_covariance_stays_symmetric_positive_definite);

@@ -154,6 +154,7 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->contact_band_rad = EKF_DEFAULT_CONTACT_BAND_RAD;
     cfg->qc_Nm2_s = EKF_DEFAULT_QC_NM2_S;
     cfg->qT_rel_s = EKF_DEFAULT_QT_REL_S;
+    cfg->impact_timing = EKF_DEFAULT_IMPACT_TIMING;
     cfg->stop_learn_margin_rad = EKF_DEFAULT_STOP_LEARN_MARGIN_RAD;
     cfg->qd_contact_Nm2_s = EKF_DEFAULT_QD_CONTACT_NM2_S;
     cfg->qd_free_Nm2_s = EKF_DEFAULT_QD_FREE_NM2_S;
@@ -198,6 +199,7 @@ void ekf_config_paper(ekf_config_t *cfg)
     cfg->contact_band_rad = TV_R(0.0);
     cfg->qc_Nm2_s = TV_R(0.0);
     cfg->qT_rel_s = TV_R(0.0);
+    cfg->impact_timing = TV_R(0.0);
     cfg->stop_learn_margin_rad = TV_R(0.0);
     cfg->qd_contact_Nm2_s = TV_R(0.0);
     cfg->qd_free_Nm2_s = TV_R(0.0);
@@ -253,6 +255,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->u_abs_max_V) || !TV_IS_FINITE(cfg->i_abs_max_A) ||
         !TV_IS_FINITE(cfg->w_abs_max_rad_s) || !TV_IS_FINITE(cfg->phi_min_rad) ||
         !TV_IS_FINITE(cfg->phi_max_rad) || !TV_IS_FINITE(cfg->contact_band_rad) || !TV_IS_FINITE(cfg->qc_Nm2_s) || !TV_IS_FINITE(cfg->qT_rel_s) ||
+        !TV_IS_FINITE(cfg->impact_timing) ||
         !TV_IS_FINITE(cfg->stop_learn_margin_rad) || !TV_IS_FINITE(cfg->qd_contact_Nm2_s) ||
         !TV_IS_FINITE(cfg->qd_free_Nm2_s) || !TV_IS_FINITE(cfg->d_tau_s) || !TV_IS_FINITE(cfg->d_var_ceil) ||
         !TV_IS_FINITE(cfg->contact_nis_gate) || !TV_IS_FINITE(cfg->contact_w_coupling) || !TV_IS_FINITE(cfg->qr_ohm2_s) ||
@@ -279,6 +282,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     if (!(cfg->u_abs_max_V > TV_R(0.0)) || !(cfg->i_abs_max_A > TV_R(0.0)) ||
         !(cfg->w_abs_max_rad_s > TV_R(0.0)) || !(cfg->phi_max_rad > cfg->phi_min_rad) ||
         cfg->contact_band_rad < TV_R(0.0) || cfg->contact_band_rad > TV_R(0.5) || cfg->qc_Nm2_s < TV_R(0.0) || cfg->qT_rel_s < TV_R(0.0) || cfg->qT_rel_s > TV_R(1.0) ||
+        cfg->impact_timing < TV_R(0.0) || cfg->impact_timing > TV_R(10.0) ||
         cfg->stop_learn_margin_rad < TV_R(0.0) || cfg->stop_learn_margin_rad > TV_R(0.5) ||
         cfg->qd_contact_Nm2_s < TV_R(0.0) || cfg->qd_free_Nm2_s < TV_R(0.0) || !(cfg->d_tau_s > TV_R(0.0)) ||
         !(cfg->d_var_ceil > TV_R(0.0)) || cfg->contact_nis_gate < TV_R(0.0) || cfg->contact_w_coupling < TV_R(0.0) ||
@@ -437,14 +441,15 @@ static void aug_put(ekf_t *ekf, const aug_part_t *ap)
 }
 
 /*
- * P = F P F^T + Q (+ Qc when contact), bounds, sanity; see ekf_propagate(). With the augmented
+ * P = F P F^T + Q (+ Qc when contact, + qt Qt1, + qw on the velocity variance: impact timing),
+ * bounds, sanity; see ekf_propagate(). With the augmented
  * states a (G = dx/da, NULL = 0; B = diag(beta): d decays outside the contact band, dR is a
  * random walk) the covariance [[P, Pxa], [Pxa^T, Paa]] goes through [[F, G], [0, B]]:
  *   P <- (F P + G Pxa^T) F^T + (F Pxa + G Paa) G^T,  Pxa <- (F Pxa + G Paa) B,
  *   Paa <- B Paa B + Qa Ts,  a <- B a.
  */
 static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX],
-                     tv_real_t G[TVM_NX][TVM_NA], int contact, tv_real_t qt)
+                     tv_real_t G[TVM_NX][TVM_NA], int contact, tv_real_t qt, tv_real_t qw)
 {
     mat3_t FP;
     mat3_t Pn;
@@ -534,6 +539,7 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
             Pn[b][a] = Pn[a][b];
         }
     }
+    Pn[TVM_W][TVM_W] += qw;
     apply_variance_bounds(Pn, ekf->cfg.var_floor, ekf->cfg.var_ceil, ekf->n_floor, ekf->n_ceil);
     if (ekf->aug_on) {
         bound_aug(&ap, &ekf->cfg);
@@ -571,12 +577,32 @@ static tv_real_t model_torque_noise(const ekf_t *ekf)
     return ekf->cfg.qT_rel_s * T * T;
 }
 
+/*
+ * Impact timing (ekf_config_t::impact_timing): the velocity variance a period adds when its
+ * prediction enters a stop (the angle before it, phi_prior, outside the stop, the predicted
+ * xn inside): the map's stop torque starts at a sub-step boundary, up to one sub-step after
+ * the plate's contact, so impact_timing (h / J M_stop)^2, M_stop the model's stop torque at the
+ * predicted state; 0 on every other period.
+ */
+static tv_real_t impact_timing_var(const ekf_t *ekf, tv_real_t phi_prior, const tv_real_t xn[TVM_NX])
+{
+    const tvm_params_t *p = &ekf->model.p;
+    tv_real_t dw;
+    if (!(ekf->cfg.impact_timing > TV_R(0.0)) ||
+        !((phi_prior >= p->phi_closed_rad && xn[TVM_PHI] < p->phi_closed_rad) ||
+          (phi_prior <= p->phi_open_rad && xn[TVM_PHI] > p->phi_open_rad))) {
+        return TV_R(0.0);
+    }
+    dw = ekf->model.h_J * tvm_stop_torque(&ekf->model, xn[TVM_PHI], xn[TVM_W]);
+    return ekf->cfg.impact_timing * dw * dw;
+}
+
 int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX])
 {
     if (ekf == NULL || x_pred == NULL || F == NULL) {
         return TV_ERR_NULL;
     }
-    return propagate(ekf, x_pred, F, NULL, 0, TV_R(0.0));
+    return propagate(ekf, x_pred, F, NULL, 0, TV_R(0.0), TV_R(0.0));
 }
 
 int ekf_predict(ekf_t *ekf, tv_real_t u_V)
@@ -605,7 +631,12 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
         const tv_real_t band = ekf->cfg.contact_band_rad;
         const int contact = band > TV_R(0.0) && (xn[TVM_PHI] < ekf->model.p.phi_closed_rad + band ||
                                                  xn[TVM_PHI] > ekf->model.p.phi_open_rad - band);
-        return propagate(ekf, xn, F, ekf->aug_on ? G : NULL, contact, model_torque_noise(ekf));
+        const tv_real_t qw = impact_timing_var(ekf, ekf->x[TVM_PHI], xn);
+        const int rc = propagate(ekf, xn, F, ekf->aug_on ? G : NULL, contact, model_torque_noise(ekf), qw);
+        if (rc == TV_OK && qw > TV_R(0.0)) {
+            ++ekf->n_impact_timing;
+        }
+        return rc;
     }
 }
 
@@ -981,6 +1012,7 @@ int ekf_set_contact_law(ekf_t *ekf, tv_real_t k_stop, tv_real_t exponent, tv_rea
 void ekf_health(const ekf_t *ekf, ekf_health_t *h)
 {
     h->n_contact = ekf->n_contact;
+    h->n_impact_timing = ekf->n_impact_timing;
     h->n_stop_moves = ekf->n_stop_moves;
     h->n_inflate = ekf->n_inflate;
     h->n_q_inflated = ekf->n_q_inflated;

@@ -55,6 +55,9 @@ extern "C" {
  *  put the friction error state of healthy training unit 0 at 1.5 in chirps and closed-loop
  *  steps, which confirmed P2119 (a false alarm), or cost the nominal unit 0.060 rad/s. */
 #define EKF_DEFAULT_QT_REL_S TV_R(0.0)
+/** Impact timing (ekf_config_t::impact_timing) [-]: 0.1, chosen on the training units over 0.1,
+ *  0.2, 1/3 and 1 (README "Impact timing"). */
+#define EKF_DEFAULT_IMPACT_TIMING TV_R(0.02)
 #define EKF_DEFAULT_STOP_LEARN_MARGIN_RAD TV_R(0.0)
 
 /** Default contact-torque state (ekf_config_t::qd_contact_Nm2_s ...): off until tuned. */
@@ -163,6 +166,16 @@ typedef struct {
      * it off. (A relative error e held for about tau is the density e^2 tau.)
      */
     tv_real_t qT_rel_s;
+    /**
+     * Impact timing (README "Impact timing"): the prediction map applies a stop's torque from
+     * the first sub-step that starts inside the stop, so a plate that enters a stop during a
+     * period is stopped up to one sub-step h late (or early, against a real stop a little
+     * outward). On a period whose prediction enters a stop (prior angle outside, predicted
+     * inside) the velocity variance gets impact_timing x (h / J x |M_stop|)^2, M_stop the
+     * model's stop torque at the predicted state: the velocity change of one sub-step of
+     * contact [-], >= 0; 0 turns it off (1/3: the timing uniform over one sub-step).
+     */
+    tv_real_t impact_timing;
     /**
      * Stops learned outward: after a correction that puts the angle estimate more than this
      * beyond a stop, that stop moves out to (estimate - margin) [rad], >= 0; 0 keeps the stops of
@@ -282,6 +295,7 @@ typedef struct {
     tv_real_t Qt1[TVM_NX][TVM_NX];      /**< plate torque noise per Ts of unit density (1 N^2 m^2 s): qT_rel_s T^2 times it */
     uint32_t n_contact;                 /**< predictions that ended in the contact band */
     uint32_t n_stop_moves;              /**< times a stop was moved out (stop learning) */
+    uint32_t n_impact_timing;           /**< predictions that entered a stop (impact_timing's variance added) */
     int in_contact;                     /**< the last prediction ended in the contact band */
     uint32_t n_inflate;                 /**< corrections that inflated the covariance (contact_nis_gate) */
     tv_real_t nis_avg;                  /**< low-pass average of the clipped NIS per channel (nis_inflate_alpha), 1 at start */
@@ -313,6 +327,7 @@ typedef struct {
     uint32_t n_ceil[TVM_NX];  /**< per state: variance scaled down to var_ceil */
     uint32_t n_contact;       /**< predictions that ended in the contact band (contact noise added) */
     uint32_t n_stop_moves;    /**< stop-learning moves of either stop */
+    uint32_t n_impact_timing; /**< predictions that entered a stop (impact_timing's velocity variance added) */
     uint32_t n_inflate;       /**< corrections that inflated the covariance at a stop */
     uint32_t n_q_inflated;    /**< corrections that left Q inflated (consistency-driven inflation) for the next prediction */
     tv_real_t q_scale;        /**< the factor on Q now (1: not inflated) */

@@ -312,6 +312,10 @@ struct Config {
     /** Model-torque noise (ekf.h ekf_config_t::qT_rel_s) [s]: the plate's torque density grows
      *  by qT_rel_s T^2, T = |n Kt i| + Kv |w| of the state before the step. */
     double qT_rel_s = 0.0;
+    /** Impact timing (ekf.h ekf_config_t::impact_timing) [-]: a prediction that enters a stop (the
+     *  angle before it outside, the predicted one inside) adds impact_timing (h / J M_stop)^2 to
+     *  the velocity variance, M_stop the stop torque at the predicted state, h = Ts / substeps. */
+    double impact_timing = 0.0;
     /** Consistency-driven inflation (ekf.h ekf_config_t::nis_inflate_alpha ...): the mean over
      *  the used channels of each correction's NIS, each clipped at 9, low-pass with gain alpha
      *  from 1; Q of the next predictions times (average / threshold)^2 above the threshold, at
@@ -342,6 +346,8 @@ inline Eigen::Matrix3d q_from_spectral(const Params& p, double qu_V2_s, double q
 const double kDefaultQu_V2_s = 5.0e-6;
 const double kDefaultQT_Nm2_s = 5.0e-6;
 const double kDefaultQTRel_s = 0.0;
+/** EKF_DEFAULT_IMPACT_TIMING (ekf.h). */
+const double kDefaultImpactTiming = 0.02;
 /** EKF_DEFAULT_NIS_INFLATE_ALPHA / _THRESHOLD / _MAX and EKF_NIS_INFLATE_CLIP (ekf.h). */
 const double kDefaultNisInflateAlpha = 0.02;
 const double kDefaultNisInflateThreshold = 1.2;
@@ -357,6 +363,7 @@ inline Config config_default(const Params& p, Setup setup)
     c.P0 = Eigen::Vector3d(1.0, 100.0, 0.01).asDiagonal();
     c.Q = q_from_spectral(p, kDefaultQu_V2_s, kDefaultQT_Nm2_s);
     c.qT_rel_s = kDefaultQTRel_s;
+    c.impact_timing = kDefaultImpactTiming;
     c.nis_inflate_alpha = kDefaultNisInflateAlpha;
     c.nis_inflate_threshold = kDefaultNisInflateThreshold;
     c.nis_inflate_max = kDefaultNisInflateMax;
@@ -406,14 +413,23 @@ public:
         Eigen::Vector3d xn;
         const Eigen::Matrix3d F = jacobian_ad(p_, x_, u_V, &xn);
         const double T = std::fabs(p_.n_gear * p_.Kt_Nm_A * x_(0)) + p_.Kv_Nm_s_rad * std::fabs(x_(1));
-        predict_with(F, xn, c_.qT_rel_s * T * T);
+        const bool enters = (x_(2) >= p_.phi_closed_rad && xn(2) < p_.phi_closed_rad) ||
+                            (x_(2) <= p_.phi_open_rad && xn(2) > p_.phi_open_rad);
+        double q_impact = 0.0;
+        if (enters && c_.impact_timing > 0.0) {
+            const double dw = p_.Ts_s / p_.substeps / p_.J_kg_m2 * stop_torque<double>(p_, xn(2), xn(1), nullptr);
+            q_impact = c_.impact_timing * dw * dw;
+        }
+        predict_with(F, xn, c_.qT_rel_s * T * T, q_impact);
     }
 
     /** The covariance part of predict with a given F and predicted state (no model evaluation). */
-    void predict_with(const Eigen::Matrix3d& F, const Eigen::Vector3d& x_pred, double q_model_Nm2_s = 0.0)
+    void predict_with(const Eigen::Matrix3d& F, const Eigen::Vector3d& x_pred, double q_model_Nm2_s = 0.0,
+                      double q_impact = 0.0)
     {
         x_ = x_pred;
         P_ = F * P_ * F.transpose() + q_scale_ * c_.Q + q_from_spectral(p_, 0.0, q_model_Nm2_s);
+        P_(1, 1) += q_impact;
         symmetrise();
         apply_bounds();
     }
