@@ -393,8 +393,9 @@ static void test_resistance_error_state(void)
 }
 /*
  * The relative friction error f (ekf_config_t::qf_1_s): (1) on a truth whose Coulomb and static
- * friction are both 1.5 x the model's (the truth is the model with those parameters), f
- * converges to 0.5 within 3 sigma and the velocity error stays small; (2) with the plate held
+ * friction are both 1.5 x the model's (the truth is the model with those parameters; f scales
+ * the Coulomb part, which a sliding plate shows), f converges to 0.5 within 3 sigma and the
+ * velocity error stays small; (2) with the plate held
  * stuck (bridge off, the plate at rest inside the stiction band) for 20 s, the estimate does not
  * move and its sigma grows only by the random walk; (3) a truth 3 x the model's friction with a
  * bound of 0.8: the estimate stays at the bound; (4) a bound of 1 or more (friction could turn

@@ -218,8 +218,9 @@ typedef struct {
     tv_real_t dr_excite_A;
     /**
      * Relative friction error f (README "Friction adaptation"): a state [-] that scales the
-     * model's friction level, Coulomb and static alike (g(w) (1 + f): wear, contamination, ice,
-     * a unit other than the model's), a random walk of density qf_1_s [1/s] starting at 0 with
+     * model's Coulomb friction and adds the same torque f Mc to its static friction (level
+     * g(w) + f Mc: wear, contamination, ice, a unit other than the model's; the Stribeck excess
+     * Ms - Mc, which sliding shows little of, is kept), a random walk of density qf_1_s [1/s] starting at 0 with
      * standard deviation f_sigma0. Friction is seen only while the plate slides (a stuck plate
      * says only that friction exceeds the drive), so while |w| < f_excite_rad_s its update is a
      * Schmidt (consider) update: gain 0, covariance carried exactly, the estimate frozen. Held
@@ -483,7 +484,8 @@ int ekf_set_contact_law(ekf_t *ekf, tv_real_t k_stop, tv_real_t exponent, tv_rea
 int ekf_set_contact_w_coupling(ekf_t *ekf, tv_real_t coupling);
 
 /**
- * The relative friction error estimate f [-] (the filter's friction level is g(w) (1 + f)) and
+ * The relative friction error estimate f [-] (the filter's Coulomb friction is Mc (1 + f), its
+ * friction level g(w) + f Mc) and
  * its standard deviation; both 0 when the configuration has no such state.
  */
 static inline void ekf_friction_error(const ekf_t *ekf, tv_real_t *f, tv_real_t *sigma)

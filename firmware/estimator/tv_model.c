@@ -209,8 +209,8 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
     const tvm_params_t *p = &m->p;
     const tv_real_t d_Nm = a_in[TVM_A_TORQUE];
     const tv_real_t dR = a_in[TVM_A_DR];
-    /* friction level scale (1 + f) */
-    const tv_real_t fs = TV_R(1.0) + a_in[TVM_A_FRIC];
+    /* the friction error's torque f Mc: the level is g(w) + f Mc (Coulomb Mc (1 + f)) */
+    const tv_real_t fMc = a_in[TVM_A_FRIC] * p->Mc_Nm;
     /* spring preload (1 + m) M0 */
     const tv_real_t M0 = p->M0_Nm * (TV_R(1.0) + a_in[TVM_A_PRELOAD]);
     /* current decay per sub-step with the resistance error taken explicitly */
@@ -238,7 +238,7 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
         const tv_real_t torque = m->nKt_Nm_A * i1 - M0 * sp - p->c_Nm_rad * phi + mstop + d_Nm;
         const tv_real_t z = w + m->h_J * torque;
         const tv_real_t g_lvl = friction_level(m, w, &dg_dw);
-        const tv_real_t D = m->h_J * g_lvl * fs;
+        const tv_real_t D = m->h_J * (g_lvl + fMc);
         const tv_real_t az = TV_FABS(z);
         const int slipping = az > D;
         const tv_real_t sz = z >= TV_R(0.0) ? TV_R(1.0) : TV_R(-1.0);
@@ -261,7 +261,7 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                 const tv_real_t dT_dw = m->nKt_Nm_A * di1_dw + dMs_dw;
                 const tv_real_t dT_dphi = -M0 * dsp - p->c_Nm_rad + dMs_dphi;
                 s1[0] = m->kappa * (m->h_J * dT_di);
-                s1[1] = m->kappa * (TV_R(1.0) + m->h_J * dT_dw - sz * m->h_J * dg_dw * fs);
+                s1[1] = m->kappa * (TV_R(1.0) + m->h_J * dT_dw - sz * m->h_J * dg_dw);
                 s1[2] = m->kappa * (m->h_J * dT_dphi);
             }
             for (c = 0; c < TVM_NX; ++c) {
@@ -285,7 +285,7 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                     chain_g(Ga, TVM_A_DR, a_i, di1_dw, s1, m->h_s, di1_ddr, dw1_dT * m->nKt_Nm_A * di1_ddr);
                 }
                 if ((g_cols & (1u << TVM_A_FRIC)) != 0u) {
-                    chain_g(Ga, TVM_A_FRIC, a_i, di1_dw, s1, m->h_s, TV_R(0.0), -sz * dw1_dT * g_lvl);
+                    chain_g(Ga, TVM_A_FRIC, a_i, di1_dw, s1, m->h_s, TV_R(0.0), -sz * dw1_dT * p->Mc_Nm);
                 }
                 if ((g_cols & (1u << TVM_A_PRELOAD)) != 0u) {
                     chain_g(Ga, TVM_A_PRELOAD, a_i, di1_dw, s1, m->h_s, TV_R(0.0), -dw1_dT * p->M0_Nm * sp);

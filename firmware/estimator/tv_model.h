@@ -179,11 +179,12 @@ enum { TVM_A_TORQUE = 0, TVM_A_DR = 1, TVM_A_FRIC = 2, TVM_A_PRELOAD = 3, TVM_NA
 /**
  * tvm_step() with the augmented inputs a = (d_Nm, dR_ohm, f, m) held over Ts: an extra torque d_Nm on
  * the plate [N m] (positive = opening), an error dR_ohm of the winding resistance [ohm] (the
- * winding is R + dR), a relative error f [-] of the friction level (Coulomb and static
- * friction both scaled: g(w) (1 + f); wear, contamination, ice, f > -1) and a relative error m
+ * winding is R + dR), a relative error f [-] of the Coulomb friction (the level g(w) + f Mc:
+ * Coulomb friction Mc (1 + f), static friction Ms + f Mc, the Stribeck excess Ms - Mc kept;
+ * wear, contamination, ice, f > -1) and a relative error m
  * [-] of the spring preload (M0 (1 + m); a fatigued or broken return spring, m > -1). The resistance error enters each sub-step explicitly, as the voltage -dR i at the
  * sub-step's initial current: i1 = a i + b (u - n Ke w - dR i), stable while |b dR| < a (the EKF
- * bounds dR far inside that); the friction error scales D = (h / J) g(w) (1 + f), the preload error the preload torque. With a = 0 it is tvm_step() exactly. G, when F and G are both
+ * bounds dR far inside that); the friction error enters D = (h / J) (g(w) + f Mc), the preload error the preload torque. With a = 0 it is tvm_step() exactly. G, when F and G are both
  * given, receives dx_next/da (column TVM_A_TORQUE: d/dd_Nm, TVM_A_DR: d/ddR_ohm, TVM_A_FRIC: d/df,
  * TVM_A_PRELOAD: d/dm), by the same
  * chain rule through the sub-steps as F; G is ignored when F is NULL. g_cols selects the columns
