@@ -95,7 +95,7 @@ POP_GRID_QT = [2e-6, 3e-6, 4e-6, 5e-6, 1e-5, 1e-4]
 POP_GRID_QC = [0.0, 1e-5, 2e-5, 5e-5]
 POP_GRID_QREL = [0.0]  # the model-torque noise stays off unless searched (--grid-qrel 0,1e-5,3e-5: README)
 POP_GRID_INFLATE = [1.2]  # ekf.nis_inflate_threshold (0 = the inflation off); the default 1.2
-POP_GRID_IMPACT = [0.1]  # ekf.impact_timing (0 = off); the default 0.1 (--grid-impact 0,0.01,..: README)
+POP_GRID_IMPACT = [0.003]  # ekf.impact_timing (0 = off); the default 0.003 (--grid-impact 0,0.01,..: README)
 
 
 def params_text(qu, qT, qc, qrel, inflate, impact):

@@ -579,21 +579,23 @@ static tv_real_t model_torque_noise(const ekf_t *ekf)
 
 /*
  * Impact timing (ekf_config_t::impact_timing): the velocity variance a period adds when its
- * prediction enters a stop (the angle before it, phi_prior, outside the stop, the predicted
- * xn inside): the map's stop torque starts at a sub-step boundary, up to one sub-step after
- * the plate's contact, so impact_timing (h / J M_stop)^2, M_stop the model's stop torque at the
- * predicted state; 0 on every other period.
+ * prediction enters a stop (the angle before it, phi_prior, between the stops; a sub-step
+ * starting inside one, peak_Nm > 0, or the predicted xn inside one). The map's stop torque
+ * starts at a sub-step boundary, up to one sub-step after the plate's contact, so
+ * impact_timing (h / J M)^2 with M the largest stop torque of the period's sub-steps (peak_Nm)
+ * or the stop torque at xn, whichever is larger; 0 on every other period.
  */
-static tv_real_t impact_timing_var(const ekf_t *ekf, tv_real_t phi_prior, const tv_real_t xn[TVM_NX])
+static tv_real_t impact_timing_var(const ekf_t *ekf, tv_real_t phi_prior, const tv_real_t xn[TVM_NX], tv_real_t peak_Nm)
 {
     const tvm_params_t *p = &ekf->model.p;
+    tv_real_t m;
     tv_real_t dw;
-    if (!(ekf->cfg.impact_timing > TV_R(0.0)) ||
-        !((phi_prior >= p->phi_closed_rad && xn[TVM_PHI] < p->phi_closed_rad) ||
-          (phi_prior <= p->phi_open_rad && xn[TVM_PHI] > p->phi_open_rad))) {
+    if (!(ekf->cfg.impact_timing > TV_R(0.0)) || phi_prior < p->phi_closed_rad || phi_prior > p->phi_open_rad ||
+        !(peak_Nm > TV_R(0.0) || xn[TVM_PHI] < p->phi_closed_rad || xn[TVM_PHI] > p->phi_open_rad)) {
         return TV_R(0.0);
     }
-    dw = ekf->model.h_J * tvm_stop_torque(&ekf->model, xn[TVM_PHI], xn[TVM_W]);
+    m = TV_FABS(tvm_stop_torque(&ekf->model, xn[TVM_PHI], xn[TVM_W]));
+    dw = ekf->model.h_J * (peak_Nm > m ? peak_Nm : m);
     return ekf->cfg.impact_timing * dw * dw;
 }
 
@@ -610,6 +612,7 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
     tv_real_t xn[TVM_NX];
     mat3_t F;
     tv_real_t G[TVM_NX][TVM_NA];
+    tv_real_t peak = TV_R(0.0);
     if (ekf == NULL) {
         return TV_ERR_NULL;
     }
@@ -622,16 +625,17 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
         return TV_ERR_RANGE;
     }
     if (ekf->aug_on) {
-        tvm_step_aug(&ekf->model, ekf->x, ekf->aug, u_V, xn, F, G, ekf->g_cols);
+        tvm_step_aug_peak(&ekf->model, ekf->x, ekf->aug, u_V, xn, F, G, ekf->g_cols, &peak);
     } else {
-        tvm_step(&ekf->model, ekf->x, u_V, xn, F);
+        static const tv_real_t a0[TVM_NA] = {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)};
+        tvm_step_aug_peak(&ekf->model, ekf->x, a0, u_V, xn, F, NULL, 0u, &peak);
     }
     {
         /* in the contact band of a stop (either side) the contact law is uncertain */
         const tv_real_t band = ekf->cfg.contact_band_rad;
         const int contact = band > TV_R(0.0) && (xn[TVM_PHI] < ekf->model.p.phi_closed_rad + band ||
                                                  xn[TVM_PHI] > ekf->model.p.phi_open_rad - band);
-        const tv_real_t qw = impact_timing_var(ekf, ekf->x[TVM_PHI], xn);
+        const tv_real_t qw = impact_timing_var(ekf, ekf->x[TVM_PHI], xn, peak);
         const int rc = propagate(ekf, xn, F, ekf->aug_on ? G : NULL, contact, model_torque_noise(ekf), qw);
         if (rc == TV_OK && qw > TV_R(0.0)) {
             ++ekf->n_impact_timing;

@@ -55,9 +55,10 @@ extern "C" {
  *  put the friction error state of healthy training unit 0 at 1.5 in chirps and closed-loop
  *  steps, which confirmed P2119 (a false alarm), or cost the nominal unit 0.060 rad/s. */
 #define EKF_DEFAULT_QT_REL_S TV_R(0.0)
-/** Impact timing (ekf_config_t::impact_timing) [-]: 0.1, chosen on the training units over 0.1,
- *  0.2, 1/3 and 1 (README "Impact timing"). */
-#define EKF_DEFAULT_IMPACT_TIMING TV_R(0.02)
+/** Impact timing (ekf_config_t::impact_timing) [-]: 0.003, the value below the pick of
+ *  tools/tune_noise.py --population --grid-impact on the training units (README "Impact
+ *  timing": why not the pick itself). */
+#define EKF_DEFAULT_IMPACT_TIMING TV_R(0.003)
 #define EKF_DEFAULT_STOP_LEARN_MARGIN_RAD TV_R(0.0)
 
 /** Default contact-torque state (ekf_config_t::qd_contact_Nm2_s ...): off until tuned. */
@@ -169,11 +170,12 @@ typedef struct {
     /**
      * Impact timing (README "Impact timing"): the prediction map applies a stop's torque from
      * the first sub-step that starts inside the stop, so a plate that enters a stop during a
-     * period is stopped up to one sub-step h late (or early, against a real stop a little
-     * outward). On a period whose prediction enters a stop (prior angle outside, predicted
-     * inside) the velocity variance gets impact_timing x (h / J x |M_stop|)^2, M_stop the
-     * model's stop torque at the predicted state: the velocity change of one sub-step of
-     * contact [-], >= 0; 0 turns it off (1/3: the timing uniform over one sub-step).
+     * period is stopped up to one sub-step h late. On a period whose prediction enters a stop
+     * (the angle before it between the stops; a sub-step starting inside one, or the predicted
+     * angle inside one) the velocity variance gets impact_timing x (h / J x M)^2, M the largest
+     * stop torque of the period's sub-steps (tvm_step_aug_peak()) or the stop torque at the
+     * predicted state, whichever is larger: the velocity change of one sub-step at the
+     * contact's peak [-], in [0, 10]; 0 turns it off.
      */
     tv_real_t impact_timing;
     /**

@@ -206,6 +206,13 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                   tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA],
                   unsigned g_cols)
 {
+    tvm_step_aug_peak(m, x, a_in, u_V, x_next, F, G, g_cols, NULL);
+}
+
+void tvm_step_aug_peak(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_in[TVM_NA], tv_real_t u_V,
+                       tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA],
+                       unsigned g_cols, tv_real_t *peak_stop_Nm)
+{
     const tvm_params_t *p = &m->p;
     const tv_real_t d_Nm = a_in[TVM_A_TORQUE];
     const tv_real_t dR = a_in[TVM_A_DR];
@@ -225,6 +232,7 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
     tv_real_t Ga[TVM_NX][TVM_NA] = {{TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)},
                                     {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)},
                                     {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)}};
+    tv_real_t peak = TV_R(0.0);
     int k;
 
     for (k = 0; k < p->substeps; ++k) {
@@ -292,9 +300,15 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                 }
             }
         }
+        if (TV_FABS(mstop) > peak) {
+            peak = TV_FABS(mstop);
+        }
         i = i1;
         w = w1;
         phi = phi1;
+    }
+    if (peak_stop_Nm != NULL) {
+        *peak_stop_Nm = peak;
     }
     x_next[TVM_I] = i;
     x_next[TVM_W] = w;

@@ -195,6 +195,16 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                   tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA],
                   unsigned g_cols);
 
+/**
+ * tvm_step_aug(), and the largest magnitude of the stop torque M_stop over the period's
+ * sub-steps, each evaluated at the sub-step's start as the map uses it [N m] (0 when no sub-step
+ * starts inside a stop), in *peak_stop_Nm unless NULL: the impact timing of the EKF
+ * (ekf_config_t::impact_timing) scales by it.
+ */
+void tvm_step_aug_peak(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_in[TVM_NA], tv_real_t u_V,
+                       tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA],
+                       unsigned g_cols, tv_real_t *peak_stop_Nm);
+
 #ifdef __cplusplus
 }
 #endif

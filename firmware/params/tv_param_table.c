@@ -46,7 +46,7 @@ static const tvp_desc_t s_table[TVP_COUNT] = {
     {"ekf.contact_nis_gate", "-", 0.0, 1000.0, 0u, "in the contact band, an angle innovation beyond this NIS inflates the covariance until it fits (0 = off)"},
     {"ekf.contact_w_coupling", "-", 0.0, 1.0, 0u, "that inflation's velocity coupling (1 = a white torque over the period); the impact learning lowers it where the angle correction overshoots the rebound"},
     {"ekf.qT_rel_s", "s", 0.0, 1.0, 0u, "model-torque noise: torque-noise density added per N^2 m^2 of the model's torque magnitude (0 = off)"},
-    {"ekf.impact_timing", "-", 0.0, 10.0, 0u, "velocity variance added when a prediction enters a stop, in units of (h / J M_stop)^2: the stop torque starts up to one sub-step late (0 = off)"},
+    {"ekf.impact_timing", "-", 0.0, 10.0, 0u, "velocity variance added when a prediction enters a stop, in units of (h / J M)^2, M the largest stop torque of its sub-steps: the stop torque starts up to one sub-step late (0 = off)"},
     {"impact_learn.enable", "-", 0.0, 1.0, TVP_INTEGER, "1: the stops' contact damping and stiffness are learned from impacts in service (impact_learn.h)"},
     {"impact_learn.gain", "-", 0.0, 1.0, TVP_LO_OPEN, "impact learning: low-pass gain per impact"},
     {"stop_learn.e_min", "-", 1.0, 3.0, 0u, "start-up stop learning: smallest contact-law exponent its fit searches (stop_learn.h)"},

@@ -230,6 +230,18 @@ Eigen::Matrix<S, 3, 1> step(const Params& p, const Eigen::Matrix<S, 3, 1>& x, do
     return xs;
 }
 
+/** The largest |M_stop| over the sub-steps of one step, each at the sub-step's start state. */
+inline double peak_stop_torque(const Params& p, const Eigen::Vector3d& x, double u_V)
+{
+    Eigen::Vector3d xs = x;
+    double peak = 0.0;
+    for (int k = 0; k < p.substeps; ++k) {
+        peak = std::max(peak, std::fabs(stop_torque<double>(p, xs(2), xs(1), nullptr)));
+        xs = substep<double>(p, xs, u_V);
+    }
+    return peak;
+}
+
 /** The discrete map x(k+1) = f(x(k), u) over Ts (no branch trace). */
 template <class S>
 Eigen::Matrix<S, 3, 1> step(const Params& p, const Eigen::Matrix<S, 3, 1>& x, double u_V)
@@ -313,8 +325,9 @@ struct Config {
      *  by qT_rel_s T^2, T = |n Kt i| + Kv |w| of the state before the step. */
     double qT_rel_s = 0.0;
     /** Impact timing (ekf.h ekf_config_t::impact_timing) [-]: a prediction that enters a stop (the
-     *  angle before it outside, the predicted one inside) adds impact_timing (h / J M_stop)^2 to
-     *  the velocity variance, M_stop the stop torque at the predicted state, h = Ts / substeps. */
+     *  angle before it between the stops; a sub-step starting inside one, or the predicted angle
+     *  inside one) adds impact_timing (h / J M)^2 to the velocity variance, M the larger of the
+     *  sub-steps' largest |M_stop| and |M_stop| at the predicted state, h = Ts / substeps. */
     double impact_timing = 0.0;
     /** Consistency-driven inflation (ekf.h ekf_config_t::nis_inflate_alpha ...): the mean over
      *  the used channels of each correction's NIS, each clipped at 9, low-pass with gain alpha
@@ -347,7 +360,7 @@ const double kDefaultQu_V2_s = 5.0e-6;
 const double kDefaultQT_Nm2_s = 5.0e-6;
 const double kDefaultQTRel_s = 0.0;
 /** EKF_DEFAULT_IMPACT_TIMING (ekf.h). */
-const double kDefaultImpactTiming = 0.02;
+const double kDefaultImpactTiming = 0.003;
 /** EKF_DEFAULT_NIS_INFLATE_ALPHA / _THRESHOLD / _MAX and EKF_NIS_INFLATE_CLIP (ekf.h). */
 const double kDefaultNisInflateAlpha = 0.02;
 const double kDefaultNisInflateThreshold = 1.2;
@@ -413,11 +426,13 @@ public:
         Eigen::Vector3d xn;
         const Eigen::Matrix3d F = jacobian_ad(p_, x_, u_V, &xn);
         const double T = std::fabs(p_.n_gear * p_.Kt_Nm_A * x_(0)) + p_.Kv_Nm_s_rad * std::fabs(x_(1));
-        const bool enters = (x_(2) >= p_.phi_closed_rad && xn(2) < p_.phi_closed_rad) ||
-                            (x_(2) <= p_.phi_open_rad && xn(2) > p_.phi_open_rad);
+        const double peak = peak_stop_torque(p_, x_, u_V);
+        const bool between = x_(2) >= p_.phi_closed_rad && x_(2) <= p_.phi_open_rad;
+        const bool enters = between && (peak > 0.0 || xn(2) < p_.phi_closed_rad || xn(2) > p_.phi_open_rad);
         double q_impact = 0.0;
         if (enters && c_.impact_timing > 0.0) {
-            const double dw = p_.Ts_s / p_.substeps / p_.J_kg_m2 * stop_torque<double>(p_, xn(2), xn(1), nullptr);
+            const double m = std::max(peak, std::fabs(stop_torque<double>(p_, xn(2), xn(1), nullptr)));
+            const double dw = p_.Ts_s / p_.substeps / p_.J_kg_m2 * m;
             q_impact = c_.impact_timing * dw * dw;
         }
         predict_with(F, xn, c_.qT_rel_s * T * T, q_impact);
