@@ -109,9 +109,10 @@ tv_real_t tvm_friction_level(const tvm_t *m, tv_real_t w_rad_s)
     return friction_level(m, w_rad_s, NULL);
 }
 
-/* Stop torque and its partial derivatives (positive = opening). */
+/* Stop torque and its partial derivatives (positive = opening); *peak (unless NULL) is raised to
+ * the torque's magnitude in contact (only there, so free motion pays nothing for it). */
 static tv_real_t stop_torque(const tvm_t *m, tv_real_t phi, tv_real_t w, tv_real_t *dT_dphi,
-                             tv_real_t *dT_dw)
+                             tv_real_t *dT_dw, tv_real_t *peak)
 {
     const tv_real_t k = m->p.k_stop_Nm_rad;
     const tv_real_t d = m->p.d_stop_Nm_s_rad;
@@ -130,6 +131,9 @@ static tv_real_t stop_torque(const tvm_t *m, tv_real_t phi, tv_real_t w, tv_real
                 torque = s * pe * f;
                 dphi = -e * (pe / p) * f;
                 dw = -d * pe;
+                if (peak != NULL && pe * f > *peak) {
+                    *peak = pe * f;
+                }
             }
         }
     } else if (phi < m->p.phi_closed_rad) {
@@ -138,6 +142,9 @@ static tv_real_t stop_torque(const tvm_t *m, tv_real_t phi, tv_real_t w, tv_real
             torque = push;
             dphi = -k;
             dw = -d;
+            if (peak != NULL && push > *peak) {
+                *peak = push;
+            }
         }
     } else if (phi > m->p.phi_open_rad) {
         const tv_real_t push = k * (phi - m->p.phi_open_rad) + d * w;
@@ -145,6 +152,9 @@ static tv_real_t stop_torque(const tvm_t *m, tv_real_t phi, tv_real_t w, tv_real
             torque = -push;
             dphi = -k;
             dw = -d;
+            if (peak != NULL && push > *peak) {
+                *peak = push;
+            }
         }
     }
     if (dT_dphi != NULL) {
@@ -158,7 +168,7 @@ static tv_real_t stop_torque(const tvm_t *m, tv_real_t phi, tv_real_t w, tv_real
 
 tv_real_t tvm_stop_torque(const tvm_t *m, tv_real_t phi_rad, tv_real_t w_rad_s)
 {
-    return stop_torque(m, phi_rad, w_rad_s, NULL, NULL);
+    return stop_torque(m, phi_rad, w_rad_s, NULL, NULL, NULL);
 }
 
 /* Smoothed preload sign sp(phi) = phi / sqrt(phi^2 + e^2) and its derivative e^2 / r^3. */
@@ -242,7 +252,7 @@ void tvm_step_aug_peak(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_
         tv_real_t dg_dw;
         const tv_real_t i1 = a_i * i + m->b_A_V * (u_V - m->nKe_V_s * w);
         const tv_real_t sp = preload_sign(phi, p->e_phi_rad, &dsp);
-        const tv_real_t mstop = stop_torque(m, phi, w, &dMs_dphi, &dMs_dw);
+        const tv_real_t mstop = stop_torque(m, phi, w, &dMs_dphi, &dMs_dw, &peak);
         const tv_real_t torque = m->nKt_Nm_A * i1 - M0 * sp - p->c_Nm_rad * phi + mstop + d_Nm;
         const tv_real_t z = w + m->h_J * torque;
         const tv_real_t g_lvl = friction_level(m, w, &dg_dw);
@@ -299,9 +309,6 @@ void tvm_step_aug_peak(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_
                     chain_g(Ga, TVM_A_PRELOAD, a_i, di1_dw, s1, m->h_s, TV_R(0.0), -dw1_dT * p->M0_Nm * sp);
                 }
             }
-        }
-        if (TV_FABS(mstop) > peak) {
-            peak = TV_FABS(mstop);
         }
         i = i1;
         w = w1;
