@@ -3,7 +3,7 @@
 # (both classes, spread all), the identified parameters against each unit's own, and the
 # estimator's velocity RMSE with identified vs true parameters. Writes out/identify/summary.json.
 #   usage: tools/run_identify.sh [--units N] [--first-unit ID] [--scenarios LIST] ...  (tools/run_identify.py --help)
-# Default: 30 units (10 of class b), about a minute on one core. Fails only if a step cannot run.
+# Default: 30 units (10 of class b), about 1.5 minutes on one core. Fails only if a step cannot run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cmake --preset host-release >/dev/null
