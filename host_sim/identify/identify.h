@@ -34,15 +34,18 @@
  *      onsets; they differ at an impact's depth, which is what the estimator meets at speed.
  *      Every impact of the log (the measured angle crosses an onset at > 1 rad/s after free
  *      travel; ID_IMP_LEN samples from ID_IMP_PRE before the crossing) is replayed by the
- *      model's plate equation (the prediction map's sub-steps) from the smoothed state, driven
- *      by the MEASURED current (the armature's model errors stay out), for each exponent whose
+ *      model's plate equation from the smoothed state, each period starting from the MEASURED
+ *      current (the armature's model errors do not accumulate) and following the logged voltage
+ *      through the identified armature, in 10 us sub-steps near or in a stop and 0.1 ms in free
+ *      travel (impact_sse()), for each exponent whose
  *      static fit did not end at a stiffness bound (the law, k and onsets of that fit) and each
  *      damping ratio lambda / k of ID_DAMP_GRID; the pair with the smallest squared angle error
  *      over all impacts is kept; then exponent, k (as a secant at SL_P_REF_RAD, within stop
  *      learning's bounds), damping ratio and both onsets are refined jointly from it by GSL's
  *      Nelder-Mead simplex on the impacts' mean squared angle error plus the rest levels' (the
  *      grid ties each exponent to its static k and onsets; the truth often lies between), kept
- *      when it lowers that cost: exponent, k, onsets and the damping ratio (identified). When
+ *      when it lowers that cost and does not end held at the upper stiffness bound:
+ *      exponent, k, onsets and the damping ratio (identified). When
  *      every law of the grid is at a bound (a stop stiffer than the model keeps stable), step
  *      3's law stays and only its damping ratio is chosen. Needs two impacts at each stop and
  *      steps 1-3 identified; otherwise step 3's law stays and the damping ratio is the
