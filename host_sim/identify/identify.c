@@ -70,6 +70,11 @@
 #define ID_IMP_SUB_FREE 10u
 #define ID_IMP_SUB_CONTACT 100u
 #define ID_IMP_NEAR_RAD 0.005
+/** Steps 3 and 4 search the contact stiffness up to this many times stop learning's bound on the
+ *  secant (k_max), so that a stop stiffer than the model keeps stable is still identified with
+ *  its own exponent and onsets; the law written is then capped at the bound, its exponent,
+ *  onsets and damping ratio kept (cap_law()). */
+#define ID_K_WIDEN 100.0
 /** Impacts: the plate crosses the onset at least this fast [rad/s], from at least this far inside [rad]. */
 #define ID_IMP_W_MIN 1.0
 #define ID_IMP_INSIDE_RAD 0.02
@@ -1014,7 +1019,7 @@ static int fit_stops(const id_data_t *d, id_result_t *res, id_laws_t *laws)
                     continue;
                 }
                 if (sl_contact_fit(lvF[s], lvA[s], nlev[s], dir, (tv_real_t)e, (tv_real_t)((double)slc.k_min * kscale),
-                                   (tv_real_t)((double)slc.k_max * kscale), &a0r, &kr) != TV_OK) {
+                                   (tv_real_t)((double)slc.k_max * ID_K_WIDEN * kscale), &a0r, &kr) != TV_OK) {
                     continue;
                 }
                 a0[s] = (double)a0r;
@@ -1446,7 +1451,7 @@ static int refine_contact(const id_data_t *d, const id_sig_t *sg, const id_laws_
     for (j = 0; j < ID_EXP_GRID; ++j) {
         const double e = 1.0 + (double)j / (double)(ID_EXP_GRID - 1);
         const double kscale = pow((double)SL_P_REF_RAD, 1.0 - e);
-        const double kmax = 0.99 * (double)slc.k_max * kscale;
+        const double kmax = 0.99 * (double)slc.k_max * ID_K_WIDEN * kscale;
         const double kmin = 1.01 * (double)slc.k_min * kscale;
         if (!(laws->sse[j] < HUGE_VAL) || !isfinite(laws->a0[j][0]) || !isfinite(laws->a0[j][1]) ||
             !(laws->k[j][0] < kmax && laws->k[j][1] < kmax && laws->k[j][0] > kmin && laws->k[j][1] > kmin)) {
@@ -1489,7 +1494,7 @@ static int refine_contact(const id_data_t *d, const id_sig_t *sg, const id_laws_
         rf.a0[0] = laws->a0[bj][0];
         rf.a0[1] = laws->a0[bj][1];
         rf.ksec[0] = 1.01 * (double)slc.k_min; /* as the grid: a law at a bound is not determined */
-        rf.ksec[1] = 0.99 * (double)slc.k_max;
+        rf.ksec[1] = 0.99 * (double)slc.k_max * ID_K_WIDEN;
         if (refine_simplex(&rf, &p, e, bdamp, &c0, &c1)) {
             /* a refined law held at the upper stiffness bound is not what the log determined
              * (a stop stiffer than the model keeps stable, which the simplex mimics by the
@@ -1523,6 +1528,22 @@ static int refine_contact(const id_data_t *d, const id_sig_t *sg, const id_laws_
     mark(res, ID_P_STOP_DAMP, bdamp, NAN, 1, "");
     res->rms_impact_rad = sqrt(best / (double)(nimp * ID_IMP_LEN));
     return TV_OK;
+}
+
+/* The law written: a secant stiffness at SL_P_REF_RAD above 0.99 of stop learning's bound (the
+ * stiffest law the model keeps stable) is capped there, the exponent, onsets and damping ratio
+ * kept: the law that tools/run_identify.py's reference gives a unit whose stop is stiffer. */
+static void cap_law(id_result_t *res)
+{
+    sl_config_t slc;
+    sl_config_default(&slc);
+    if (res->identified[ID_P_K_STOP] && res->identified[ID_P_STOP_EXP]) {
+        const double e = res->value[ID_P_STOP_EXP];
+        const double cap = 0.99 * (double)slc.k_max * pow((double)SL_P_REF_RAD, 1.0 - e);
+        if (res->value[ID_P_K_STOP] > cap) {
+            res->value[ID_P_K_STOP] = cap;
+        }
+    }
 }
 
 /* ------------------------------------------------------------------------------------------ */
@@ -1620,6 +1641,9 @@ int id_run(const id_data_t *d, FILE *progress, id_result_t *res)
             fprintf(progress, "identify: contact law by the impacts ...\n");
         }
         rc = refine_contact(d, &s, &laws, res, progress);
+    }
+    if (rc == TV_OK) {
+        cap_law(res);
     }
     sig_free(&s);
     (void)gsl_set_error_handler(old);
