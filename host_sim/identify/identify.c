@@ -1443,11 +1443,12 @@ static int refine_contact(const id_data_t *d, const id_sig_t *sg, const id_laws_
         p.ws_rad_s = (tv_real_t)res->value[ID_P_WS];
     }
     p.Kv_Nm_s_rad = (tv_real_t)res->value[ID_P_KV];
-    /* The grid's laws free of the stiffness bounds, each with the damping ratios of the grid;
-     * when there is none (a stop stiffer than the model keeps stable), step 3's own law, for its
-     * damping. (Letting the impacts choose among the laws held at the upper bound instead was
-     * tried: unit 1007 of the identify benchmark took exponent 1.97 and 5.1x the velocity error
-     * of its own law, capped alike, against 1.38x with step 3's law.) */
+    /* The grid's laws free of the stiffness bounds (the upper one ID_K_WIDEN times stop
+     * learning's: cap_law() caps the law written), each with the damping ratios of the grid; when
+     * there is none, step 3's own law, for its damping. (With the model's own bound, letting the
+     * impacts choose among the laws held at it was tried: unit 1007 of the identify benchmark
+     * took exponent 1.97 and 5.1x the velocity error of its own law, capped alike, against 1.38x
+     * with step 3's law.) */
     for (j = 0; j < ID_EXP_GRID; ++j) {
         const double e = 1.0 + (double)j / (double)(ID_EXP_GRID - 1);
         const double kscale = pow((double)SL_P_REF_RAD, 1.0 - e);

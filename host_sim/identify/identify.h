@@ -45,9 +45,11 @@
  *      Nelder-Mead simplex on the impacts' mean squared angle error plus the rest levels' (the
  *      grid ties each exponent to its static k and onsets; the truth often lies between), kept
  *      when it lowers that cost and does not end held at the upper stiffness bound:
- *      exponent, k, onsets and the damping ratio (identified). When
- *      every law of the grid is at a bound (a stop stiffer than the model keeps stable), step
- *      3's law stays and only its damping ratio is chosen. Needs two impacts at each stop and
+ *      exponent, k, onsets and the damping ratio (identified). Steps 3 and 4 search the
+ *      stiffness up to ID_K_WIDEN times stop learning's bound, and the law written is capped at
+ *      that bound (a stop stiffer than the model keeps stable keeps its exponent, onsets and
+ *      damping ratio). When every law of the grid is at a bound, step 3's law stays and only its
+ *      damping ratio is chosen. Needs two impacts at each stop and
  *      steps 1-3 identified; otherwise step 3's law stays and the damping ratio is the
  *      stop-learning rule's 0.16 s/rad (not identified).
  *   Each linear fit is done twice: samples with a residual beyond ID_OUTLIER_SIGMA robust
