@@ -792,6 +792,18 @@ static int dithered_before(const id_data_t *d, size_t k0)
     return umax - umin > ID_DITHER_SWING_V && k0 >= ID_DITHER_LOOKBACK;
 }
 
+/* Contact laws k p^e are compared by their secant stiffness at SL_P_REF_RAD, k p_ref^(e - 1):
+ * ref_scale(e) = p_ref^(1 - e) turns a secant into the k of exponent e; secant_at_ref() the reverse. */
+static double ref_scale(double e)
+{
+    return pow((double)SL_P_REF_RAD, 1.0 - e);
+}
+
+static double secant_at_ref(double k, double e)
+{
+    return k * pow((double)SL_P_REF_RAD, e - 1.0);
+}
+
 /* The static fit's contact laws, one per exponent of the grid (at the friction factor chosen):
  * what step 4 (refine_contact()) chooses among by the impacts. sse HUGE_VAL: no law. */
 typedef struct {
@@ -1007,7 +1019,7 @@ static int fit_stops(const id_data_t *d, id_result_t *res, id_laws_t *laws)
         /* contact law: exponent grid, sl_contact_fit() per stop, the exponent common to both */
         for (j = 0; j < ID_EXP_GRID; ++j) {
             const double e = 1.0 + (double)j / (double)(ID_EXP_GRID - 1);
-            const double kscale = pow((double)SL_P_REF_RAD, 1.0 - e);
+            const double kscale = ref_scale(e);
             double sse = 0.0;
             double a0[2] = {(double)NAN, (double)NAN};
             double kk[2] = {(double)NAN, (double)NAN};
@@ -1244,7 +1256,7 @@ static void refine_law(const id_refine_t *r, const double th[5], tvm_params_t *p
     const double ratio = exp(held(th[2], log(ID_REF_DAMP_LO), log(ID_REF_DAMP_HI), pen));
     *p = r->p;
     p->stop_exponent = (tv_real_t)e;
-    p->k_stop_Nm_rad = (tv_real_t)(ks * pow((double)SL_P_REF_RAD, 1.0 - e));
+    p->k_stop_Nm_rad = (tv_real_t)(ks * ref_scale(e));
     p->d_stop_Nm_s_rad = (tv_real_t)(ratio * (double)p->k_stop_Nm_rad);
     p->phi_closed_rad = (tv_real_t)(r->a0[0] + 1e-3 * held(th[3], -ID_REF_ONSET_MRAD, ID_REF_ONSET_MRAD, pen));
     p->phi_open_rad = (tv_real_t)(r->a0[1] + 1e-3 * held(th[4], -ID_REF_ONSET_MRAD, ID_REF_ONSET_MRAD, pen));
@@ -1299,7 +1311,7 @@ static int refine_simplex(id_refine_t *r, tvm_params_t *p, double e, double damp
         return 0;
     }
     gsl_vector_set(x, 0u, e);
-    gsl_vector_set(x, 1u, log((double)p->k_stop_Nm_rad * pow((double)SL_P_REF_RAD, e - 1.0)));
+    gsl_vector_set(x, 1u, log(secant_at_ref((double)p->k_stop_Nm_rad, e)));
     gsl_vector_set(x, 2u, log(damp));
     gsl_vector_set(x, 3u, 0.0);
     gsl_vector_set(x, 4u, 0.0);
@@ -1451,7 +1463,7 @@ static int refine_contact(const id_data_t *d, const id_sig_t *sg, const id_laws_
      * with step 3's law.) */
     for (j = 0; j < ID_EXP_GRID; ++j) {
         const double e = 1.0 + (double)j / (double)(ID_EXP_GRID - 1);
-        const double kscale = pow((double)SL_P_REF_RAD, 1.0 - e);
+        const double kscale = ref_scale(e);
         const double kmax = 0.99 * (double)slc.k_max * ID_K_WIDEN * kscale;
         const double kmin = 1.01 * (double)slc.k_min * kscale;
         if (!(laws->sse[j] < HUGE_VAL) || !isfinite(laws->a0[j][0]) || !isfinite(laws->a0[j][1]) ||
@@ -1501,7 +1513,7 @@ static int refine_contact(const id_data_t *d, const id_sig_t *sg, const id_laws_
              * (a stop stiffer than the model keeps stable, which the simplex mimics by the
              * steepest exponent: training unit 16 went to 2.5 and 1.7 - 3.2x the velocity error
              * of its own law, capped alike): the grid's law stays */
-            const double sec = (double)p.k_stop_Nm_rad * pow((double)SL_P_REF_RAD, (double)p.stop_exponent - 1.0);
+            const double sec = secant_at_ref((double)p.k_stop_Nm_rad, (double)p.stop_exponent);
             if (sec >= (1.0 - 1e-6) * rf.ksec[1]) {
                 p = rf.p;
                 c1 = c0;
@@ -1540,7 +1552,7 @@ static void cap_law(id_result_t *res)
     sl_config_default(&slc);
     if (res->identified[ID_P_K_STOP] && res->identified[ID_P_STOP_EXP]) {
         const double e = res->value[ID_P_STOP_EXP];
-        const double cap = 0.99 * (double)slc.k_max * pow((double)SL_P_REF_RAD, 1.0 - e);
+        const double cap = 0.99 * (double)slc.k_max * ref_scale(e);
         if (res->value[ID_P_K_STOP] > cap) {
             res->value[ID_P_K_STOP] = cap;
         }
