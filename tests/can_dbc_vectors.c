@@ -95,9 +95,11 @@ static void typed_commands(void)
         app_mode_t mode;
         float target, limit;
         uint8_t clear;
-    } c[] = {{APP_MODE_OFF, 0.0f, 0.005f, 0u},       {APP_MODE_SINE, -0.5f, 1.0f, 1u},
-             {APP_MODE_STEPS, 2.0f, 0.5f, 0u},       {APP_MODE_CHIRP, 0.12345f, 0.955f, 1u},
-             {APP_MODE_POSITION, -0.0321f, 0.2f, 0u}};
+        uint8_t temp_valid;
+        float temp;
+    } c[] = {{APP_MODE_OFF, 0.0f, 0.005f, 0u, 0u, 0.0f},        {APP_MODE_SINE, -0.5f, 1.0f, 1u, 1u, -40.0f},
+             {APP_MODE_STEPS, 2.0f, 0.5f, 0u, 1u, 180.0f},      {APP_MODE_CHIRP, 0.12345f, 0.955f, 1u, 1u, 87.0f},
+             {APP_MODE_POSITION, -0.0321f, 0.2f, 0u, 1u, 20.0f}};
     static const struct {
         float amp, f0, f1, period;
     } e[] = {{0.0f, 0.0f, 0.0f, 0.1f}, {24.0f, 200.0f, 200.0f, 25.5f}, {12.3f, 5.55f, 123.45f, 2.0f},
@@ -110,6 +112,8 @@ static void typed_commands(void)
         cmd.target_rad = c[i].target;
         cmd.duty_limit = c[i].limit;
         cmd.fault_clear = c[i].clear;
+        cmd.temp_valid = c[i].temp_valid;
+        cmd.winding_temp_C = c[i].temp;
         if (can_host_encode_control(&cmd, (uint8_t)(i * 3u % 16u), &f) != TV_OK) {
             printf("ERROR encode_control %u\n", (unsigned)i);
             continue;
@@ -120,6 +124,8 @@ static void typed_commands(void)
         expect("TV_CMD_CONTROL", "TargetAngle", (double)c[i].target);
         expect("TV_CMD_CONTROL", "DutyLimit", (double)c[i].limit);
         expect("TV_CMD_CONTROL", "FaultClear", (double)c[i].clear);
+        expect("TV_CMD_CONTROL", "WindingTempValid", (double)c[i].temp_valid);
+        expect("TV_CMD_CONTROL", "WindingTemp", c[i].temp_valid ? (double)c[i].temp : -40.0);
     }
     for (i = 0; i < sizeof e / sizeof e[0]; ++i) {
         can_proto_excitation_t cmd;
@@ -238,6 +244,7 @@ static void typed_telemetry(const can_proto_telemetry_t *tm, uint8_t counter)
         case CAN_PROTO_ID_HEALTH_3:
             expect(m->name, "TrackDiff", (double)tm->tps_diff_rad);
             expect(m->name, "TrackDiffSd", (double)tm->tps_diff_sd_rad);
+            expect(m->name, "ResistanceRef20", (double)tm->r_20_ohm);
             break;
         case CAN_PROTO_ID_DIAG:
             expect(m->name, "DtcCount", (double)tm->dtc_count);
@@ -316,6 +323,7 @@ static void telemetry_sets(void)
     a.stop_open_rad = 1.4321f;
     a.tps_diff_rad = -0.00321f;
     a.tps_diff_sd_rad = 0.000456f;
+    a.r_20_ohm = 4.123f;
     a.dtc_count = 2u;
     a.last_dtc = 6u;
     a.last_dtc_status = 1u;
@@ -378,6 +386,7 @@ static void telemetry_sets(void)
     a.stop_open_rad = 1.8f;
     a.tps_diff_rad = 0.3f;
     a.tps_diff_sd_rad = 0.065f;
+    a.r_20_ohm = 16.38f;
     a.dtc_count = 15u;
     a.last_dtc = CAN_PROTO_DTC_NONE;
     a.last_dtc_status = 2u;

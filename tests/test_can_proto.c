@@ -39,6 +39,8 @@ static hal_can_frame_t control_frame(app_mode_t mode, float target, float duty_l
     c.target_rad = target;
     c.duty_limit = duty_limit;
     c.fault_clear = clear;
+    c.temp_valid = 0u;
+    c.winding_temp_C = 0.0f;
     memset(&f, 0, sizeof f);
     TV_CHECK_EQ_INT(can_host_encode_control(&c, ctr, &f), TV_OK);
     return f;
@@ -220,10 +222,83 @@ static void test_commands_round_trip(void)
     }
 }
 
+/* The winding temperature: -40 .. 180 degC to 0.5 degC with WindingTempValid; without it the
+ * frame says "unknown" whatever the field holds (an old sender's zeros). */
+static void test_winding_temperature_round_trips(void)
+{
+    static const float temps[] = {-40.0f, -0.4f, 20.0f, 90.0f, 179.6f, 180.0f};
+    size_t i;
+    for (i = 0; i < sizeof temps / sizeof temps[0]; ++i) {
+        can_proto_control_t c;
+        can_proto_control_t d;
+        hal_can_frame_t f;
+        memset(&c, 0, sizeof c);
+        c.mode = APP_MODE_POSITION;
+        c.duty_limit = 0.9f;
+        c.temp_valid = 1u;
+        c.winding_temp_C = temps[i];
+        TV_CHECK_EQ_INT(can_host_encode_control(&c, (uint8_t)i, &f), TV_OK);
+        memset(&d, 0, sizeof d);
+        TV_CHECK_EQ_INT(can_proto_decode_control(&f, &d), CAN_PROTO_RX_ACCEPTED);
+        TV_CHECK_EQ_INT(d.temp_valid, 1);
+        TV_CHECK_NEAR(d.winding_temp_C, temps[i], 0.5 + 1e-5);
+        /* the layout: bit 41 and byte 6 = T + 40 */
+        TV_CHECK_EQ_INT((f.data[5] >> 1) & 1u, 1);
+        TV_CHECK_EQ_INT(f.data[6], (int)(temps[i] + 40.0f + 0.5f));
+    }
+    {
+        /* an old sender: the reserved bits 0 */
+        const hal_can_frame_t f = control_frame(APP_MODE_OFF, 0.0f, 0.5f, 0u, 0u);
+        can_proto_control_t d;
+        memset(&d, 0xA5, sizeof d);
+        TV_CHECK_EQ_INT(f.data[6], 0);
+        TV_CHECK_EQ_INT(can_proto_decode_control(&f, &d), CAN_PROTO_RX_ACCEPTED);
+        TV_CHECK_EQ_INT(d.temp_valid, 0);
+    }
+}
+
+/* The node hands the temperature to the application, and "unknown" too; the application refuses
+ * a temperature it cannot use and keeps the one it had. */
+static void test_node_applies_the_winding_temperature(void)
+{
+    static app_t app;
+    can_proto_node_t n;
+    can_proto_config_t cfg;
+    can_proto_control_t c;
+    hal_can_frame_t f;
+    app_ok(&app);
+    can_proto_config_default(&cfg);
+    TV_CHECK_EQ_INT(can_proto_node_init(&n, &cfg, &app), TV_OK);
+    TV_CHECK_EQ_INT(app.winding_temp_known, 0);
+    memset(&c, 0, sizeof c);
+    c.mode = APP_MODE_OFF;
+    c.duty_limit = 0.5f;
+    c.temp_valid = 1u;
+    c.winding_temp_C = 90.0f;
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 0u), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_EQ_INT(app.winding_temp_known, 1);
+    TV_CHECK_NEAR(app.winding_temp_C, 90.0, 1e-6);
+    TV_CHECK_NEAR(app.r_temp_factor, 1.0 + 0.00393 * 70.0, 1e-6); /* copper, referred to 20 degC */
+    c.temp_valid = 0u;
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 1u, &f), TV_OK);
+    TV_CHECK_EQ_INT(can_proto_node_receive(&n, &app, &f, 10000u), CAN_PROTO_RX_ACCEPTED);
+    TV_CHECK_EQ_INT(app.winding_temp_known, 0);
+    TV_CHECK_NEAR(app.r_temp_factor, 1.0, 0.0);
+    /* the application's own checks */
+    TV_CHECK_EQ_INT(app_set_winding_temp(&app, 1, TV_R(50.0)), TV_OK);
+    TV_CHECK_EQ_INT(app_set_winding_temp(&app, 1, TV_R(180.5)), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(app_set_winding_temp(&app, 1, TV_R(-40.5)), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(app_set_winding_temp(&app, 1, (tv_real_t)NAN), TV_ERR_NONFINITE);
+    TV_CHECK_EQ_INT(app_set_winding_temp(NULL, 1, TV_R(20.0)), TV_ERR_NULL);
+    TV_CHECK_EQ_INT(app.winding_temp_known, 1);
+    TV_CHECK_NEAR(app.winding_temp_C, 50.0, 0.0);
+}
+
 /* The encoder refuses to build command frames a receiver would reject. */
 static void test_command_encoder_refuses_out_of_range(void)
 {
-    can_proto_control_t c = {APP_MODE_SINE, 0.3f, 0.9f, 0u};
+    can_proto_control_t c = {APP_MODE_SINE, 0.3f, 0.9f, 0u, 0u, 0.0f};
     can_proto_excitation_t e = {12.0f, 5.0f, 20.0f, 2.0f};
     hal_can_frame_t f;
     TV_CHECK_EQ_INT(can_host_encode_control(&c, 16u, &f), TV_ERR_RANGE);
@@ -239,6 +314,12 @@ static void test_command_encoder_refuses_out_of_range(void)
     c.duty_limit = 1.01f;
     TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_RANGE);
     c.duty_limit = 0.9f;
+    c.temp_valid = 1u;
+    c.winding_temp_C = 180.6f;
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_RANGE);
+    c.winding_temp_C = -40.6f;
+    TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_RANGE);
+    c.temp_valid = 0u;
     c.mode = (app_mode_t)5;
     TV_CHECK_EQ_INT(can_host_encode_control(&c, 0u, &f), TV_ERR_RANGE);
     e.amplitude_V = 24.1f;
@@ -312,6 +393,7 @@ static void test_telemetry_round_trips_and_saturates(void)
     tm.stop_open_rad = 1.4567f;
     tm.tps_diff_rad = -0.012345f;
     tm.tps_diff_sd_rad = 0.0004567f;
+    tm.r_20_ohm = 3.9876f;
     tm.dtc_count = 3u;
     tm.last_dtc = 7u;
     tm.last_dtc_status = 2u;
@@ -389,6 +471,7 @@ static void test_telemetry_round_trips_and_saturates(void)
     TV_CHECK_EQ_INT(back.last_dtc_confirmations, 4);
     TV_CHECK_NEAR(back.tps_diff_rad, -0.012345, 0.5e-5 + 1e-8);
     TV_CHECK_NEAR(back.tps_diff_sd_rad, 0.0004567, 0.5e-6 + 1e-9);
+    TV_CHECK_NEAR(back.r_20_ohm, 3.9876, 0.0005 + 1e-6);
     TV_CHECK_EQ_INT(back.dtc_mask, 0x0181);
     TV_CHECK_NEAR(back.last_dtc_time_s, 123.4, 1e-4); /* 123.44 s to 0.1 s */
     TV_CHECK_EQ_INT(back.freeze_dtc, 7);
@@ -862,7 +945,8 @@ static void test_telemetry_schedule(void)
 /* Send the application's health and diagnostic frames and decode them back. */
 static void health_diag_round_trip(const app_t *app, const app_output_t *out, can_proto_telemetry_t *back)
 {
-    static const uint32_t ids[] = {CAN_PROTO_ID_HEALTH_1, CAN_PROTO_ID_HEALTH_2, CAN_PROTO_ID_DIAG, CAN_PROTO_ID_DIAG_FREEZE};
+    static const uint32_t ids[] = {CAN_PROTO_ID_HEALTH_1, CAN_PROTO_ID_HEALTH_2, CAN_PROTO_ID_HEALTH_3, CAN_PROTO_ID_DIAG,
+                                   CAN_PROTO_ID_DIAG_FREEZE};
     can_proto_telemetry_t tm;
     size_t i;
     memset(&tm, 0, sizeof tm);
@@ -966,6 +1050,15 @@ static void test_health_and_diag_frames_follow_the_application(void)
     TV_CHECK_NEAR(back.stop_closed_rad, out.stop_closed_rad, 0.00005 + 1e-6);
     TV_CHECK_NEAR(back.stop_open_rad, out.stop_open_rad, 0.00005 + 1e-6);
     TV_CHECK(out.r_est_ohm > TV_R(1.0) && out.friction_rel > TV_R(0.5)); /* real values, not zeros */
+    TV_CHECK_NEAR(out.r_20_ohm, 0.0, 0.0); /* the winding's temperature unknown */
+    TV_CHECK_NEAR(back.r_20_ohm, 0.0, 0.0);
+    /* at a known 70 degC: R + dR / (1 + 0.00393 (70 - 20)) */
+    TV_CHECK_EQ_INT(app_set_winding_temp(&app, 1, TV_R(70.0)), TV_OK);
+    step_at_rest(&app, 5002000u, &out);
+    health_diag_round_trip(&app, &out, &back);
+    TV_CHECK_NEAR(out.r_20_ohm, (double)out.r_est_ohm / (1.0 + 0.00393 * 50.0), 1e-5);
+    TV_CHECK_NEAR(back.r_20_ohm, out.r_20_ohm, 0.0005 + 1e-5);
+    TV_CHECK(out.r_20_ohm < out.r_est_ohm - TV_R(0.5));
     TV_CHECK_EQ_INT(back.dtc_count, 0);
     TV_CHECK_EQ_INT(back.dtc_mask, 0);
     TV_CHECK_EQ_INT(back.last_dtc, CAN_PROTO_DTC_NONE);
@@ -986,7 +1079,7 @@ static void test_health_and_diag_frames_follow_the_application(void)
     for (k = 0; k < 200; ++k) {
         TV_CHECK_EQ_INT(diag_report(&app.diag, DIAG_DTC_P2101, DIAG_FAIL, &snap, TV_R(1.5)), TV_OK);
     }
-    step_at_rest(&app, 5002000u, &out);
+    step_at_rest(&app, 5003000u, &out);
     TV_CHECK_EQ_INT(out.dtc_confirmed, (1u << DIAG_DTC_P2101) | (1u << DIAG_DTC_P1A01));
     health_diag_round_trip(&app, &out, &back);
     TV_CHECK_EQ_INT(back.dtc_count, 2);
@@ -1004,7 +1097,7 @@ static void test_health_and_diag_frames_follow_the_application(void)
     TV_CHECK_NEAR(back.freeze_current_A, 1.2, 0.05 + 1e-6);
     /* a tester's clear: nothing confirmed, the last code kept as history */
     diag_clear(&app.diag);
-    step_at_rest(&app, 5003000u, &out);
+    step_at_rest(&app, 5004000u, &out);
     health_diag_round_trip(&app, &out, &back);
     TV_CHECK_EQ_INT(back.dtc_count, 0);
     TV_CHECK_EQ_INT(back.dtc_action, DIAG_ACTION_NONE);
@@ -1056,6 +1149,8 @@ int main(void)
     TV_TEST_RUN(test_signal_table_is_consistent);
     TV_TEST_RUN(test_commands_round_trip);
     TV_TEST_RUN(test_command_encoder_refuses_out_of_range);
+    TV_TEST_RUN(test_winding_temperature_round_trips);
+    TV_TEST_RUN(test_node_applies_the_winding_temperature);
     TV_TEST_RUN(test_telemetry_round_trips_and_saturates);
     TV_TEST_RUN(test_bad_frames_rejected_and_counted);
     TV_TEST_RUN(test_command_timeout_is_a_latched_fault);

@@ -1718,7 +1718,7 @@ static void sig_case(int identified, tv_real_t ratio, tv_real_t kw, tv_real_t f,
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
     diag_init(d);
     memset(&snap, 0, sizeof snap);
-    diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), &snap);
+    diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), 0, &snap);
     for (k = 0; k < windows * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE; ++k) {
         const tv_real_t i = isens_i(k);
         const tv_real_t w = isens_w(k);
@@ -1771,7 +1771,7 @@ static void test_motor_constant_signature(void)
         for (k = 0; k < 400 + (int)DIAG_ISENS_SETTLE; ++k) {
             diag_current_sensor_check(&dd, &d, 1, 1, 1, isens_i(k), TV_R(0.0), isens_w(k), &snap);
         }
-        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), &snap);
+        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 0, &snap);
         TV_CHECK_EQ_INT(dd.isens_n, 401); /* the settling call not counted */
         for (k = 401; k < (int)DIAG_ISENS_WIN; ++k) {
             const tv_real_t w = isens_w(k);
@@ -1804,7 +1804,7 @@ static void test_motor_constant_signature(void)
         TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
         diag_init(&d);
         memset(&snap, 0, sizeof snap);
-        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), &snap);
+        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 0, &snap);
         for (k = 1; k <= 400 * (int)DIAG_PARAM_DECIM && first < 0; ++k) {
             diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.3), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
             if (diag_pending(&d, DIAG_DTC_P2119)) {

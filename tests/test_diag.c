@@ -339,24 +339,66 @@ static void test_winding_resistance_rule(void)
     unsigned k;
     fresh_detectors(&d, &dd, &c);
     for (k = 0; k < 199u; ++k) {
-        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(5.81), TV_R(0.05), TV_R(4.3), &sn);
+        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(5.81), TV_R(0.05), TV_R(4.3), 0, &sn);
     }
-    diag_resistance_check(&dd, &d, 0, TV_R(1.0), TV_R(9.0), TV_R(0.05), TV_R(4.3), &sn);
-    diag_resistance_check(&dd, &d, 1, TV_R(0.39), TV_R(9.0), TV_R(0.05), TV_R(4.3), &sn);
-    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(9.0), TV_R(0.22), TV_R(4.3), &sn);
+    diag_resistance_check(&dd, &d, 0, TV_R(1.0), TV_R(9.0), TV_R(0.05), TV_R(4.3), 0, &sn);
+    diag_resistance_check(&dd, &d, 1, TV_R(0.39), TV_R(9.0), TV_R(0.05), TV_R(4.3), 0, &sn);
+    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(9.0), TV_R(0.22), TV_R(4.3), 0, &sn);
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2101), 0);
-    diag_resistance_check(&dd, &d, 1, TV_R(-1.0), TV_R(5.81), TV_R(0.05), TV_R(4.3), &sn);
+    diag_resistance_check(&dd, &d, 1, TV_R(-1.0), TV_R(5.81), TV_R(0.05), TV_R(4.3), 0, &sn);
     TV_CHECK_EQ_INT(diag_confirmed(&d, DIAG_DTC_P2101), 1);
     TV_CHECK_NEAR(d.code[DIAG_DTC_P2101].freeze.value, 5.81 / 4.3, 1e-6);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P1A01) + diag_confirmed(&d, DIAG_DTC_P1A01), 0);
     TV_CHECK_EQ_INT(diag_action(&d), DIAG_ACTION_NONE); /* P2101 is recorded only */
     fresh_detectors(&d, &dd, &c);
-    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(2.79), TV_R(0.05), TV_R(4.3), &sn);
+    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(2.79), TV_R(0.05), TV_R(4.3), 0, &sn);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P1A01), 1);
     fresh_detectors(&d, &dd, &c);
-    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(2.80), TV_R(0.05), TV_R(4.3), &sn);
-    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(5.80), TV_R(0.05), TV_R(4.3), &sn);
+    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(2.80), TV_R(0.05), TV_R(4.3), 0, &sn);
+    diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(5.80), TV_R(0.05), TV_R(4.3), 0, &sn);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P1A01) + diag_pending(&d, DIAG_DTC_P2101), 0);
+}
+
+/* 200 checks at (R + dR) / R = ratio; returns P2101's state after them: 2 confirmed, 1 pending, 0 neither */
+static int p2101_after(int identified, int temp_known, double ratio)
+{
+    static diag_t d;
+    diag_detect_t dd;
+    diag_detect_config_t c;
+    diag_snapshot_t sn = snap_at(1u);
+    unsigned k;
+    diag_init(&d);
+    diag_detect_config_default(&c);
+    if (identified) {
+        diag_detect_config_identified(&c);
+    }
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_OK);
+    for (k = 0; k < 200u; ++k) {
+        diag_resistance_check(&dd, &d, 1, TV_R(1.0), (tv_real_t)ratio * TV_R(4.3), TV_R(0.05), TV_R(4.3), temp_known, &sn);
+    }
+    return diag_confirmed(&d, DIAG_DTC_P2101) ? 2 : diag_pending(&d, DIAG_DTC_P2101);
+}
+
+static void test_winding_resistance_bound_with_a_known_temperature(void)
+{
+    /* the class's units: 1.35 with or without the temperature */
+    TV_CHECK_EQ_INT(p2101_after(0, 1, 1.34), 0);
+    TV_CHECK_EQ_INT(p2101_after(0, 1, 1.36), 2);
+    TV_CHECK_EQ_INT(p2101_after(0, 0, 1.36), 2);
+    /* an identified unit: 1.15 only while the temperature is known (a warm winding's +27 % at
+     * 90 degC reads as a drift otherwise) */
+    TV_CHECK_EQ_INT(p2101_after(1, 1, 1.14), 0);
+    TV_CHECK_EQ_INT(p2101_after(1, 1, 1.16), 2);
+    TV_CHECK_EQ_INT(p2101_after(1, 0, 1.30), 0);
+    TV_CHECK_EQ_INT(p2101_after(1, 0, 1.36), 2);
+    {
+        /* the bound is validated like the others */
+        diag_detect_config_t c;
+        diag_detect_t dd;
+        diag_detect_config_default(&c);
+        c.r_high_frac_known = TV_R(1.0);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_ERR_CONFIG);
+    }
 }
 
 int main(void)
@@ -369,5 +411,6 @@ int main(void)
     TV_TEST_RUN(test_vote_names_the_track_away_from_the_prediction);
     TV_TEST_RUN(test_jam_and_open_winding_rules);
     TV_TEST_RUN(test_winding_resistance_rule);
+    TV_TEST_RUN(test_winding_resistance_bound_with_a_known_temperature);
     return tv_test_summary();
 }

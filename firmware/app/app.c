@@ -181,6 +181,7 @@ int app_init(app_t *app, const app_config_t *cfg)
     (void)st_reset(&app->st, &cfg->stop_track, cfg->model.phi_closed_rad, cfg->model.phi_open_rad); /* likewise */
     (void)il_reset(&app->il, &cfg->impact_learn, &app->ekf.model.p); /* a law without stiffness: never learns */
     app->il.coupling = cfg->ekf.contact_w_coupling; /* as learned before (a parameter file), validated */
+    (void)app_set_winding_temp(app, 0, TV_R(0.0)); /* unknown until told */
     diag_init(&app->diag);
     (void)diag_detect_init(&app->ddet, &cfg->diag); /* validated above */
     {
@@ -294,6 +295,31 @@ int app_set_target(app_t *app, tv_real_t target_rad)
         return TV_ERR_NONFINITE;
     }
     app->cfg.control.target_rad = target_rad;
+    return TV_OK;
+}
+
+int app_set_winding_temp(app_t *app, int known, tv_real_t temp_C)
+{
+    if (app == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!known) {
+        app->winding_temp_known = 0u;
+        app->winding_temp_C = ((tv_real_t)APP_R_REF_TEMP_C);
+        app->r_temp_factor = TV_R(1.0);
+        app->r_temp_inv = TV_R(1.0);
+        return TV_OK;
+    }
+    if (!TV_IS_FINITE(temp_C)) {
+        return TV_ERR_NONFINITE;
+    }
+    if (temp_C < ((tv_real_t)APP_WINDING_TEMP_MIN_C) || temp_C > ((tv_real_t)APP_WINDING_TEMP_MAX_C)) {
+        return TV_ERR_RANGE;
+    }
+    app->winding_temp_known = 1u;
+    app->winding_temp_C = temp_C;
+    app->r_temp_factor = TV_R(1.0) + ((tv_real_t)APP_COPPER_ALPHA_PER_K) * (temp_C - ((tv_real_t)APP_R_REF_TEMP_C));
+    app->r_temp_inv = TV_R(1.0) / app->r_temp_factor;
     return TV_OK;
 }
 
@@ -695,7 +721,8 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
                        app->u_applied_V, u_break_V, snap);
     }
     diag_resistance_check(&app->ddet, &app->diag, was_on && app->diag_bridge_on && c->mode != APP_MODE_STOP_LEARN,
-                          out->z[EKF_CH_CURRENT], out->r_est_ohm, out->r_sigma_ohm, app->ekf.model.p.R_ohm, snap);
+                          out->z[EKF_CH_CURRENT], out->r_est_ohm, out->r_sigma_ohm,
+                          app->ekf.model.p.R_ohm * app->r_temp_factor, app->winding_temp_known, snap);
     {
         /* the torque signature: the velocity correction of this sample is the torque the model did
          * not explain; fed away from the stops (contact) and from limp-home (the preload's sign) */
@@ -985,6 +1012,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         tv_real_t dR;
         ekf_resistance_error(&app->ekf, &dR, &out->r_sigma_ohm);
         out->r_est_ohm = app->ekf.model.p.R_ohm + dR;
+        out->r_20_ohm = app->winding_temp_known ? out->r_est_ohm * app->r_temp_inv : TV_R(0.0);
     }
     {
         tv_real_t f;

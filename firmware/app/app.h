@@ -183,6 +183,9 @@ typedef struct {
     tv_real_t sigma[TVM_NX]; /**< its standard deviations */
     tv_real_t r_est_ohm;   /**< the filter's winding resistance R + dR (ekf_resistance_error()) [ohm] */
     tv_real_t r_sigma_ohm; /**< its standard deviation [ohm]; 0 when the filter has no resistance-error state */
+    tv_real_t r_20_ohm;    /**< condition monitoring: R + dR referred to APP_R_REF_TEMP_C, (R + dR) / (1 +
+                                APP_COPPER_ALPHA_PER_K (T - 20 degC)) with T the winding temperature of
+                                app_set_winding_temp() [ohm]; 0 while that temperature is unknown */
     tv_real_t friction_rel;       /**< the filter's friction level relative to its model's, 1 + f (ekf_friction_error()) [-] */
     tv_real_t friction_rel_sigma; /**< its standard deviation [-]; 0 when the filter has no friction-error state */
     tv_real_t preload_rel;        /**< the filter's spring preload relative to its model's, 1 + m (ekf_preload_error()) [-] */
@@ -251,6 +254,10 @@ typedef struct {
     tv_real_t tps_diff_var;   /**< its weighted variance [rad^2] */
     tv_real_t tps_diff_sd;    /**< sqrt(tps_diff_var) [rad] (app_output_t::tps_diff_sd_rad) */
     uint32_t tps_diff_n;      /**< samples in it, saturating at APP_TPS_AGREE_N */
+    uint8_t winding_temp_known; /**< 1: winding_temp_C holds the winding's temperature (app_set_winding_temp()) */
+    tv_real_t winding_temp_C;   /**< the winding's temperature [degC] while known */
+    tv_real_t r_temp_factor;    /**< 1 + APP_COPPER_ALPHA_PER_K (winding_temp_C - APP_R_REF_TEMP_C); 1 while unknown */
+    tv_real_t r_temp_inv;       /**< 1 / r_temp_factor */
 } app_t;
 
 /**
@@ -292,6 +299,30 @@ int app_set_control(app_t *app, const app_control_t *ctl);
  * @return TV_OK, TV_ERR_NULL, TV_ERR_NONFINITE.
  */
 int app_set_target(app_t *app, tv_real_t target_rad);
+
+/**
+ * The winding's resistance and temperature. The model's R (motor.R in parameter files, what
+ * identify writes) is the winding's resistance at APP_R_REF_TEMP_C; copper's rises by
+ * APP_COPPER_ALPHA_PER_K per kelvin, +27 % at 90 degC. The estimator follows a warm winding with
+ * its resistance error dR either way. With the temperature known, the resistance check compares
+ * R + dR with R (1 + alpha (T - 20 degC)), the condition monitoring reports R + dR referred to
+ * 20 degC (app_output_t::r_20_ohm, TV_HEALTH_3 ResistanceRef20), and on an identified unit the
+ * tighter bound r_high_frac_known of firmware/diag/diag_detect.h applies (a drift of +25 % is a
+ * fault, not the engine bay's heat).
+ */
+#define APP_R_REF_TEMP_C 20.0
+#define APP_COPPER_ALPHA_PER_K 0.00393 /**< copper's temperature coefficient of resistance at 20 degC [1/K] */
+#define APP_WINDING_TEMP_MIN_C (-40.0) /**< app_set_winding_temp() accepts [min, max] [degC] */
+#define APP_WINDING_TEMP_MAX_C 180.0
+
+/**
+ * Set the winding's temperature (a sensor, or the engine controller's estimate over CAN:
+ * TV_CMD_CONTROL WindingTemp), or declare it unknown (known = 0; temp_C is then ignored). It
+ * holds until set again.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_NONFINITE; TV_ERR_RANGE (outside APP_WINDING_TEMP_MIN_C ..
+ *         APP_WINDING_TEMP_MAX_C). On error nothing changes.
+ */
+int app_set_winding_temp(app_t *app, int known, tv_real_t temp_C);
 
 /**
  * The stop-learning routine's state: phase (SL_DONE: phi_closed_rad / phi_open_rad were

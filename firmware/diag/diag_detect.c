@@ -28,6 +28,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->open_i_max_A = TV_R(0.15);
     cfg->open_di_max_A = TV_R(0.05);
     cfg->r_high_frac = TV_R(1.35);
+    cfg->r_high_frac_known = TV_R(1.35);
     cfg->r_low_frac = TV_R(0.65);
     cfg->r_sigma_max_frac = TV_R(0.05);
     cfg->r_excite_A = TV_R(0.4);
@@ -81,6 +82,7 @@ void diag_detect_config_identified(diag_detect_config_t *cfg)
     cfg->preload_fast_low = TV_R(0.7);
     cfg->preload_fast_friction_max = TV_R(1.3);
     cfg->friction_high_rel = TV_R(1.15);
+    cfg->r_high_frac_known = TV_R(1.15);
     cfg->identified = 1u;
 }
 
@@ -93,7 +95,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         const tv_real_t all[] = {cfg->tps_disagree_rad, cfg->tps_vote_frac, cfg->jam_error_rad, cfg->jam_u_min_V,
                                  cfg->jam_break_factor, cfg->jam_still_rad, cfg->jam_limp_margin_rad,
                                  cfg->open_u_min_V,     cfg->open_i_max_A,     cfg->open_di_max_A,
-                                 cfg->r_high_frac,      cfg->r_low_frac,    cfg->r_sigma_max_frac,
+                                 cfg->r_high_frac,      cfg->r_high_frac_known, cfg->r_low_frac,    cfg->r_sigma_max_frac,
                                  cfg->r_excite_A,       cfg->friction_high_rel, cfg->friction_sigma_max,
                                  cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
                                  cfg->bridge_lost_frac, cfg->supply_low_V,      cfg->supply_hyst_V,
@@ -115,7 +117,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
             }
         }
     }
-    if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0)) ||
+    if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_high_frac_known > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0)) ||
         !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0)) ||
         !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) ||
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
@@ -413,9 +415,10 @@ void diag_circuit_check(diag_detect_t *dd, diag_t *d, int low1, int low2, tv_rea
 }
 
 void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t current_A, tv_real_t r_est_ohm,
-                           tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, const diag_snapshot_t *snap)
+                           tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, int temp_known, const diag_snapshot_t *snap)
 {
     tv_real_t ratio;
+    tv_real_t high;
     if (dd == NULL || d == NULL || snap == NULL || !active || !(TV_FABS(current_A) >= dd->cfg.r_excite_A) ||
         !TV_IS_FINITE(r_est_ohm) || !TV_IS_FINITE(r_sigma_ohm) ||
         !(r_nom_ohm > TV_R(0.0)) || !(r_sigma_ohm > TV_R(0.0)) || r_sigma_ohm > dd->cfg.r_sigma_max_frac * r_nom_ohm) {
@@ -433,7 +436,8 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
         }
         dd->r_low = low;
     }
-    (void)diag_report(d, DIAG_DTC_P2101, ratio > dd->cfg.r_high_frac ? DIAG_FAIL : DIAG_PASS, snap, ratio);
+    high = temp_known ? dd->cfg.r_high_frac_known : dd->cfg.r_high_frac;
+    (void)diag_report(d, DIAG_DTC_P2101, ratio > high ? DIAG_FAIL : DIAG_PASS, snap, ratio);
     if (ratio < dd->cfg.r_low_frac) {
         (void)diag_report(d, DIAG_DTC_P1A01, DIAG_FAIL, snap, ratio);
     } else if (!dd->r_low) {

@@ -39,7 +39,9 @@
  *     1013 in limp_home, dR jumping 0.58 ohm with the bridge off and no current, corrected within
  *     20 ms of drive) and its sigma is below r_sigma_max_frac * R: above r_high_frac * R fails
  *     P2101, below r_low_frac * R fails P1A01, in between passes both. R is the model's nominal
- *     resistance.
+ *     resistance at the winding's temperature when the application knows it (the model's R is
+ *     at 20 degC: app_set_winding_temp()), else the model's R as it is; with the temperature
+ *     known, r_high_frac_known takes the place of r_high_frac (tighter on an identified unit).
  *   ADAPTED MECHANICS (P2119 friction above, P1A02 spring preload below its range), the
  *     estimator's friction level 1 + f and preload 1 + m against their healthy ranges, checked
  *     every DIAG_PARAM_DECIM steps (the estimates move over seconds: a 1 kHz check would repeat
@@ -245,6 +247,12 @@ typedef struct {
                                      (`winding_short`, 12 V sine) */
     tv_real_t r_high_frac;      /**< R + dR above this times R fails P2101 [-], > 1; default 1.35 (units
                                      spread +-20 %, and a winding warms up by some 10 %) */
+    tv_real_t r_high_frac_known; /**< the same while the winding's temperature is known [-], > 1; default
+                                      1.35 as r_high_frac (the units' spread); 1.15 on an identified unit
+                                      (diag_detect_config_identified(): its own R, within 2 % at the end
+                                      of every healthy population run, at a known temperature, so +25 %
+                                      is a fault; without the temperature a warm winding reads +27 % at
+                                      90 degC and the wide bound stays) */
     tv_real_t r_low_frac;       /**< R + dR below this times R fails P1A01 [-], (0, 1); default 0.65 */
     tv_real_t r_sigma_max_frac; /**< the check runs while sigma(dR) <= this times R [-], > 0; default 0.05 */
     tv_real_t r_excite_A;       /**< ... and the measured |current| is at least this [A], > 0; default 0.4 */
@@ -570,11 +578,13 @@ void diag_circuit_check(diag_detect_t *dd, diag_t *d, int low1, int low2, tv_rea
  * @param current_A    the measured current [A]
  * @param r_est_ohm    the estimator's R + dR [ohm]
  * @param r_sigma_ohm  its standard deviation [ohm] (0: the estimator has no such state: not run)
- * @param r_nom_ohm    the model's R [ohm], > 0
+ * @param r_nom_ohm    the model's R [ohm], > 0, at the winding's temperature when it is known
+ * @param temp_known   1 when r_nom_ohm was referred to the winding's known temperature: the bound
+ *                     r_high_frac_known applies
  * @param snap         the step's snapshot (value in the freeze frame: (R + dR) / R [-])
  */
 void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t current_A, tv_real_t r_est_ohm,
-                           tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, const diag_snapshot_t *snap);
+                           tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, int temp_known, const diag_snapshot_t *snap);
 
 /**
  * The adapted-mechanics check (see the file comment); reports P2119, P1A02. Call once per step:

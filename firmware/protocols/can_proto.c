@@ -20,6 +20,8 @@ static const can_proto_signal_t s_sig_control[] = {
     {"TargetAngle", 16u, 16u, 1u, 0.0001f, 0.0f, -0.5f, 2.0f, "rad"},
     {"DutyLimit", 32u, 8u, 0u, 0.005f, 0.0f, 0.005f, 1.0f, ""},
     {"FaultClear", 40u, 1u, 0u, 1.0f, 0.0f, 0.0f, 1.0f, ""},
+    {"WindingTempValid", 41u, 1u, 0u, 1.0f, 0.0f, 0.0f, 1.0f, ""},
+    {"WindingTemp", 48u, 8u, 0u, 1.0f, -40.0f, -40.0f, 180.0f, "degC"},
 };
 static const can_proto_signal_t s_sig_excitation[] = {
     SIG_CRC,
@@ -125,6 +127,7 @@ static const can_proto_signal_t s_sig_health_3[] = {
     SIG_COUNTER,
     {"TrackDiff", 16u, 16u, 1u, 1e-5f, 0.0f, -0.32768f, 0.32767f, "rad"},
     {"TrackDiffSd", 32u, 16u, 0u, 1e-6f, 0.0f, 0.0f, 0.065535f, "rad"},
+    {"ResistanceRef20", 48u, 14u, 0u, 0.001f, 0.0f, 0.0f, 16.383f, "ohm"},
 };
 static const can_proto_signal_t s_sig_diag[] = {
     SIG_CRC,
@@ -452,6 +455,8 @@ int can_proto_decode_control(const hal_can_frame_t *frame, can_proto_control_t *
     cmd->target_rad = phys[3];
     cmd->duty_limit = phys[4];
     cmd->fault_clear = phys[5] != 0.0f ? 1u : 0u;
+    cmd->temp_valid = phys[6] != 0.0f ? 1u : 0u;
+    cmd->winding_temp_C = phys[7];
     return CAN_PROTO_RX_ACCEPTED;
 }
 
@@ -524,6 +529,7 @@ void can_proto_telemetry_from_app(const app_t *app, const app_output_t *out, can
     tm->stop_open_rad = (float)out->stop_open_rad;
     tm->tps_diff_rad = (float)out->tps_diff_rad;
     tm->tps_diff_sd_rad = (float)out->tps_diff_sd_rad;
+    tm->r_20_ohm = (float)out->r_20_ohm;
     {
         uint32_t mask = out->dtc_confirmed & 0xFFFFu;
         uint8_t n = 0u;
@@ -610,6 +616,7 @@ static int telemetry_phys(uint32_t id, const can_proto_telemetry_t *tm, float *p
     case CAN_PROTO_ID_HEALTH_3:
         p[2] = tm->tps_diff_rad;
         p[3] = tm->tps_diff_sd_rad;
+        p[4] = tm->r_20_ohm;
         return TV_OK;
     case CAN_PROTO_ID_DIAG:
         p[2] = (float)tm->dtc_count;
@@ -781,6 +788,10 @@ int can_proto_node_receive(can_proto_node_t *node, app_t *app, const hal_can_fra
         rc = can_proto_decode_control(frame, &c);
         if (rc != CAN_PROTO_RX_ACCEPTED) {
             ++node->stats.range;
+            return CAN_PROTO_RX_RANGE;
+        }
+        if (app_set_winding_temp(app, c.temp_valid, (tv_real_t)c.winding_temp_C) != TV_OK) {
+            ++node->stats.range; /* not reached: the signal's range is the application's */
             return CAN_PROTO_RX_RANGE;
         }
         node->commanded.mode = c.mode;

@@ -44,7 +44,14 @@
  *     TargetAngle   16|16 s     0.0001 rad       [-0.5, 2.0]
  *     DutyLimit     32|8        0.005            [0.005, 1.0]
  *     FaultClear    40|1        1                [0, 1]   clears latched faults on its 0 -> 1 edge
- *     bits 41..63 reserved (send 0, ignored)
+ *     WindingTempValid 41|1     1                [0, 1]   1: WindingTemp holds the winding's temperature
+ *                                                         (a sensor, or the engine controller's estimate);
+ *                                                         0 (as senders of reserved bits send): unknown
+ *     WindingTemp   48|8        1 degC, offset -40  [-40, 180]  app_set_winding_temp(): the resistance
+ *                                                         check and TV_HEALTH_3 ResistanceRef20 refer the
+ *                                                         winding's resistance to 20 degC with it; held
+ *                                                         until the next TV_CMD_CONTROL
+ *     bits 42..47 and 56..63 reserved (send 0, ignored)
  *   TV_CMD_EXCITATION 0x101
  *     Amplitude     16|8        0.1 V            [0, 24]
  *     Frequency     24|16       0.01 Hz          [0, 200]  sine / steps frequency, chirp start
@@ -112,11 +119,16 @@
  *     StopOpen          50|13    0.0001 rad, offset 1.0   [1.0, 1.8191]   open-stop contact onset in use
  *                                                              (stop learning accepts 1.10..1.70)
  *   TV_HEALTH_3 0x18D (condition monitoring, the position tracks' agreement over the last second,
- *   app_output_t::tps_diff_rad; bits 12..15 and 48..63 reserved; a value beyond its field saturates)
+ *   app_output_t::tps_diff_rad, and the winding's resistance at 20 degC; bits 12..15 and 62..63
+ *   reserved; a value beyond its field saturates)
  *     TrackDiff         16|16s   1e-5 rad         [-0.32768, 0.32767]  mean of phi1 - phi2 (calibrated
  *                                                              tracks; the plausibility limit is 0.035)
  *     TrackDiffSd       32|16    1e-6 rad         [0, 0.065535]  its standard deviation (a healthy pair:
  *                                                              about the two tracks' quantisation)
+ *     ResistanceRef20   48|14    0.001 ohm        [0, 16.383]  R + dR referred to 20 degC with the
+ *                                                              winding's temperature (app_output_t::r_20_ohm):
+ *                                                              the trend of a winding's wear whatever
+ *                                                              its temperature; 0 while it is unknown
  *   TV_DIAG 0x18B (diagnostic codes, firmware/diag/diag.h; code index = diag_dtc_t, 15 = none)
  *     DtcCount          12|4     1                [0, 15]  codes confirmed now
  *     LastDtc           16|4     1                [0, 15]  the code confirmed most recently since start (15: none)
@@ -277,6 +289,8 @@ typedef struct {
     float target_rad;    /**< closed-loop target angle [rad] */
     float duty_limit;    /**< |duty| limit, (0, 1] */
     uint8_t fault_clear; /**< FaultClear bit (acted on at its 0 -> 1 edge) */
+    uint8_t temp_valid;  /**< WindingTempValid: 1 when winding_temp_C holds the winding's temperature */
+    float winding_temp_C; /**< WindingTemp [degC], -40 .. 180 (read only with temp_valid) */
 } can_proto_control_t;
 
 /** Decoded TV_CMD_EXCITATION. */
@@ -341,6 +355,8 @@ typedef struct {
     float stop_open_rad;      /**< open-stop contact onset in use [rad] */
     float tps_diff_rad;       /**< TV_HEALTH_3: mean of phi1 - phi2 over the last second [rad] */
     float tps_diff_sd_rad;    /**< its standard deviation [rad] */
+    float r_20_ohm;           /**< TV_HEALTH_3: winding resistance R + dR referred to 20 degC [ohm];
+                                   0 while the winding's temperature is unknown */
     /* diagnostic codes (TV_DIAG, TV_DIAG_FREEZE) */
     uint8_t dtc_count;        /**< codes confirmed now, 0..15 */
     uint16_t dtc_mask;        /**< bit k: code k confirmed now */

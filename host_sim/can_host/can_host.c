@@ -10,7 +10,7 @@
 
 int can_host_encode_control(const can_proto_control_t *cmd, uint8_t counter, hal_can_frame_t *frame)
 {
-    float phys[6];
+    float phys[8];
     if (cmd == NULL || frame == NULL) {
         return TV_ERR_NULL;
     }
@@ -20,6 +20,8 @@ int can_host_encode_control(const can_proto_control_t *cmd, uint8_t counter, hal
     phys[3] = cmd->target_rad;
     phys[4] = cmd->duty_limit;
     phys[5] = cmd->fault_clear != 0u ? 1.0f : 0.0f;
+    phys[6] = cmd->temp_valid != 0u ? 1.0f : 0.0f;
+    phys[7] = cmd->temp_valid != 0u ? cmd->winding_temp_C : -40.0f; /* raw 0 when unknown */
     if ((unsigned)cmd->mode > (unsigned)APP_MODE_IDENT || cmd->mode == APP_MODE_EXTERNAL) {
         return TV_ERR_RANGE;
     }
@@ -124,6 +126,7 @@ int can_host_decode_telemetry(const hal_can_frame_t *frame, can_proto_telemetry_
     case CAN_PROTO_ID_HEALTH_3:
         tm->tps_diff_rad = p[2];
         tm->tps_diff_sd_rad = p[3];
+        tm->r_20_ohm = p[4];
         break;
     case CAN_PROTO_ID_DIAG:
         tm->dtc_count = (uint8_t)u32_of(p[2]);

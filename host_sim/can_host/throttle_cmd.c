@@ -14,7 +14,8 @@
  *
  * Script mode: one directive per line, "<time_s> <directive> [key=value ...]", times ascending
  * from the start of the program ('#' comments):
- *   set mode=M target=RAD duty_limit=X amplitude=V freq=HZ f1=HZ period=S   (any subset)
+ *   set mode=M target=RAD duty_limit=X winding_temp=DEGC|none amplitude=V freq=HZ f1=HZ
+ *       period=S   (any subset)
  *   clear                 FaultClear = 1 in the next 3 control frames
  *   silence / resume      stop / restart sending (silence longer than can.cmd_timeout_ms is a fault)
  *   bad KIND              inject one bad frame: crc (a flipped data bit), dlc (DLC 7), repeat (the
@@ -95,6 +96,23 @@ static int parse_float(const char *s, float *v)
     return 0;
 }
 
+/* A winding temperature [degC] in -40 .. 180, or "none" (unknown: WindingTempValid 0). */
+static int parse_temp(const char *s, can_proto_control_t *c)
+{
+    float t;
+    if (strcmp(s, "none") == 0) {
+        c->temp_valid = 0u;
+        c->winding_temp_C = 0.0f;
+        return 0;
+    }
+    if (parse_float(s, &t) != 0 || !(t >= -40.0f && t <= 180.0f)) {
+        return -1;
+    }
+    c->temp_valid = 1u;
+    c->winding_temp_C = t;
+    return 0;
+}
+
 /* key=value of a "set" directive. */
 static int set_kv(cmd_state_t *st, const char *kv)
 {
@@ -115,6 +133,9 @@ static int set_kv(cmd_state_t *st, const char *kv)
     }
     if (strcmp(key, "duty_limit") == 0) {
         return parse_float(eq, &st->ctl.duty_limit);
+    }
+    if (strcmp(key, "winding_temp") == 0) {
+        return parse_temp(eq, &st->ctl);
     }
     if (strcmp(key, "amplitude") == 0) {
         return parse_float(eq, &st->exc.amplitude_V);
@@ -295,7 +316,7 @@ static void usage(void)
 {
     fprintf(stderr, "usage: throttle_cmd -i IFACE [--mode off|sine|steps|chirp|position|stop_learn|ident] [--target RAD]\n"
                     "         [--duty-limit X] [--amplitude V] [--freq HZ] [--f1 HZ] [--period S] [--clear]\n"
-                    "         [--rate-ms N] [--duration-s S]\n"
+                    "         [--winding-temp DEGC|none] [--rate-ms N] [--duration-s S]\n"
                     "       throttle_cmd -i IFACE --script FILE [--rate-ms N]\n");
 }
 
@@ -347,6 +368,8 @@ int main(int argc, char **argv)
             bad = parse_float(v, &st.ctl.target_rad);
         } else if (strcmp(a, "--duty-limit") == 0) {
             bad = parse_float(v, &st.ctl.duty_limit);
+        } else if (strcmp(a, "--winding-temp") == 0) {
+            bad = parse_temp(v, &st.ctl);
         } else if (strcmp(a, "--amplitude") == 0) {
             bad = parse_float(v, &st.exc.amplitude_V);
         } else if (strcmp(a, "--freq") == 0) {

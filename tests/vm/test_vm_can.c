@@ -186,7 +186,7 @@ static void test_protocol_over_socketcan(void)
     app_config_t acfg;
     can_proto_config_t pcfg;
     can_proto_node_t node;
-    can_proto_control_t cmd = {APP_MODE_POSITION, 0.3f, 0.9f, 0u};
+    can_proto_control_t cmd = {APP_MODE_POSITION, 0.3f, 0.9f, 0u, 0u, 0.0f};
     hal_can_frame_t f;
     hal_can_frame_t frames[CAN_PROTO_N_TX];
     app_output_t out;
