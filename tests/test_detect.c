@@ -342,6 +342,68 @@ static void test_winding_resistance_out_of_range(void)
     TV_CHECK_LE(worst_lo, 0.7);
 }
 
+/* One closed-loop steps run (6 s) of the nominal unit, its winding at plant_C; the application
+ * told told_C (NaN: not told); a fault spec or NULL. */
+static void run_warm(const app_config_t *ac, double plant_C, double told_C, const char *spec, sim_result_t *r)
+{
+    static plant_config_t pc;
+    static plant_fault_list_t l;
+    sim_options_t opt;
+    plant_config_default(&pc);
+    sim_options_default(&opt);
+    opt.scenario = SIM_SCN_CLOSED_STEPS;
+    opt.duration_s = 6.0;
+    opt.plant = &pc;
+    opt.app = ac;
+    opt.winding_temp_C = plant_C;
+    opt.temp_reading = isfinite(told_C);
+    opt.temp_reading_C = told_C;
+    plant_fault_list_clear(&l);
+    if (spec != NULL) {
+        TV_CHECK_EQ_INT(plant_fault_list_add(&l, spec, NULL, 0u), TV_OK);
+        opt.faults = &l;
+    }
+    TV_CHECK_EQ_INT(sim_run(&opt, r), TV_OK);
+}
+
+/* The winding's temperature (app_set_winding_temp()). The plant's R follows copper from its 20 degC
+ * value (4.3 ohm: 5.821 ohm at 110 degC, worked by hand), the estimator follows it through dR, and
+ * the application refers it back to 20 degC with the temperature it is told. A healthy winding at
+ * 110 degC reads 1.35 R: without the temperature the resistance check confirms P2101 (why the
+ * temperature is an input), with it nothing. On a unit whose model is its own (identified), with
+ * the temperature known, the bound is 1.15 R: a resistance +25 % confirms P2101, which the class's
+ * 1.35 misses; a reading 10 K off (the plant at 90 degC, told 80) does not. */
+static void test_winding_temperature(void)
+{
+    static app_config_t ac;
+    sim_result_t r;
+    app_config_default(&ac);
+    run_warm(&ac, 110.0, (double)NAN, NULL, &r);
+    TV_CHECK_NEAR(r.r_true_ohm, 5.82091, 1e-4);
+    TV_CHECK_NEAR(r.r_est_ohm, 5.82091, 0.02 * 5.82091);
+    TV_CHECK(isnan(r.r_20_ohm));
+    TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+    run_warm(&ac, 110.0, 110.0, NULL, &r);
+    TV_CHECK_NEAR(r.r_20_ohm, 4.3, 0.02 * 4.3);
+    TV_CHECK_NEAR(r.r_true_20_ohm, 4.3, 1e-9);
+    TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P2101));
+    /* the class's bound: +25 % passes with the temperature known too */
+    run_warm(&ac, 20.0, 20.0, "winding_resistance_high:1.25@1.0", &r);
+    TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+    diag_detect_config_identified(&ac.diag);
+    run_warm(&ac, 20.0, 20.0, "winding_resistance_high:1.25@1.0", &r);
+    TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+    printf("  identified, 20 degC told: resistance +25 %% confirmed P2101 %.0f ms after the onset\n",
+           (r.dtc_confirm_t_s[DIAG_DTC_P2101] - 1.0) * 1e3);
+    TV_CHECK_LE(r.dtc_confirm_t_s[DIAG_DTC_P2101] - 1.0, 1.0);
+    run_warm(&ac, 20.0, (double)NAN, "winding_resistance_high:1.25@1.0", &r);
+    TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+    run_warm(&ac, 90.0, 80.0, NULL, &r);
+    TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P2101));
+    run_warm(&ac, 90.0, 80.0, "winding_resistance_high:1.25@1.0", &r);
+    TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+}
+
 /* The adapted-mechanics check on scripted estimates (no estimator, no torque signature fed):
  * it runs at every DIAG_PARAM_DECIM-th call only, never while the plate is slower than
  * param_excite_rad_s, the estimate's sigma above its bound or the check inactive; a level beyond
@@ -1896,6 +1958,7 @@ int main(void)
     TV_TEST_RUN(test_sticky_plate_jam_within_100_ms_of_stall);
     TV_TEST_RUN(test_open_winding_confirmed_within_10_ms);
     TV_TEST_RUN(test_winding_resistance_out_of_range);
+    TV_TEST_RUN(test_winding_temperature);
     TV_TEST_RUN(test_mechanics_check_timing);
     TV_TEST_RUN(test_torque_signature);
     TV_TEST_RUN(test_torque_signature_ambiguous);

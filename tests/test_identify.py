@@ -192,6 +192,24 @@ def main():
           "unit 21: Mc within 1 %% without the drop (%s vs %s)" % (got.get("model.Mc_Nm"), truth["plant.Mc_Nm"]))
     check(got.get("model.Ms_Nm") == got.get("model.Mc_Nm"), "unit 21: Ms = Mc written")
 
+    # a warm winding (90 degC: copper's R x 1.2751): the log's R as it is without the temperature,
+    # referred to 20 degC with it (identify --winding-temp), within 3 % of the unit's either way
+    unit_args = ["--unit", "1000", "--plant-class", "a", "--spread", "all"]
+    warm = path("warm90.bin")
+    expect([exe("host_sim"), "--scenario", "ident", "--out", path("sim"), "--winding-temp", "90", "--raw-log", warm,
+            "--raw-format", "bin"] + unit_args, 0)
+    _, plant_txt, _ = expect([exe("host_sim"), "--print-plant-params"] + unit_args, 0)
+    r20 = keys(plant_txt)["plant.R_ohm"]
+    for temp, want in ((None, r20 * (1.0 + 0.00393 * 70.0)), ("90", r20)):
+        prm = path("warm90_%s.params" % (temp or "untold"))
+        expect([exe("identify"), warm, "-o", prm, "--quiet"] + (["--winding-temp", temp] if temp else []), 0)
+        with open(prm) as fh:
+            txt = fh.read()
+        got = keys(txt).get("model.R_ohm", float("nan"))
+        check(abs(got / want - 1.0) <= 0.03, "warm log, temperature %s: R %.4g, expected %.4g" % (temp, got, want))
+        check(("referred from the log's 90 degC" in txt) == (temp is not None), "warm log: the file says how R was referred")
+    expect([exe("identify"), "--winding-temp", "181", warm, "-o", path("x.params")], 2, "--winding-temp")
+
     # a log that excites nothing: standstill (1.5 V, the plate never breaks away) is refused
     log = path("standstill.bin")
     expect([exe("host_sim"), "--scenario", "standstill", "--duration", "20", "--out", path("sim"), "--raw-log", log,

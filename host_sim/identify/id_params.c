@@ -46,6 +46,12 @@ int id_write_params(FILE *f, const char *log_name, const id_result_t *r, double 
                "# the model's parameters identified from the log, with their standard deviations.\n"
                "# Keys not written keep the defaults of the program that reads this file.\n",
             log_name);
+    if (isnan(r->r_log_temp_C)) {
+        fprintf(f, "# model.R_ohm is the winding's resistance at 20 degC: the log's as it is (its temperature was not given)\n");
+    } else {
+        fprintf(f, "# model.R_ohm is the winding's resistance at 20 degC, referred from the log's %.4g degC (copper)\n",
+                r->r_log_temp_C);
+    }
     put_param(f, "model.R_ohm", r, ID_P_R, 1.0);
     put_param(f, "model.L_H", r, ID_P_L, 1.0);
     fprintf(f, "# the log shows n Ke = n Kt = %.6g V s/rad (Kt = Ke in SI units, tied); split with n = %g:\n",

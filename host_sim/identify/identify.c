@@ -16,6 +16,7 @@
 #include <gsl/gsl_sort_ulong.h>
 #include <gsl/gsl_statistics_double.h>
 
+#include "app.h"
 #include "stop_learn.h"
 #include "tv_model.h"
 #include "tv_status.h"
@@ -1602,6 +1603,7 @@ int id_run(const id_data_t *d, FILE *progress, id_result_t *res)
         return TV_ERR_NULL;
     }
     memset(res, 0, sizeof *res);
+    res->r_log_temp_C = (double)NAN;
     for (p = 0; p < (int)ID_P_COUNT; ++p) {
         res->value[p] = (double)NAN;
         res->sigma[p] = (double)NAN;
@@ -1661,4 +1663,20 @@ int id_run(const id_data_t *d, FILE *progress, id_result_t *res)
     sig_free(&s);
     (void)gsl_set_error_handler(old);
     return rc;
+}
+
+int id_refer_resistance(id_result_t *res, double temp_C)
+{
+    double k;
+    if (res == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!(temp_C >= APP_WINDING_TEMP_MIN_C && temp_C <= APP_WINDING_TEMP_MAX_C) || !isnan(res->r_log_temp_C)) {
+        return TV_ERR_RANGE;
+    }
+    k = 1.0 + APP_COPPER_ALPHA_PER_K * (temp_C - APP_R_REF_TEMP_C);
+    res->value[ID_P_R] /= k;
+    res->sigma[ID_P_R] /= k;
+    res->r_log_temp_C = temp_C;
+    return TV_OK;
 }

@@ -119,6 +119,9 @@ typedef struct {
 typedef struct {
     double value[ID_P_COUNT];      /**< estimates (valid where identified) */
     double sigma[ID_P_COUNT];      /**< their standard deviations (NaN: none) */
+    double r_log_temp_C;           /**< the winding's temperature during the log, when given
+                                        (id_refer_resistance()): value[ID_P_R] is then referred to
+                                        20 degC; NaN: not given, R is the log's as it is [degC] */
     int identified[ID_P_COUNT];    /**< 1: identified (see the file comment) */
     char why[ID_P_COUNT][ID_WHY_MAX]; /**< why not, when not identified */
     size_t n_elec, n_mech;         /**< samples in the final armature and plate fits */
@@ -147,6 +150,15 @@ const char *id_param_unit(id_param_t p);
  *         TV_ERR_IO (out of memory).
  */
 int id_run(const id_data_t *d, FILE *progress, id_result_t *res);
+
+/**
+ * Refer the identified winding resistance (and its sigma) to 20 degC, the model's reference
+ * (firmware/app/app.h, APP_R_REF_TEMP_C), from the winding's temperature during the log:
+ * R / (1 + APP_COPPER_ALPHA_PER_K (temp_C - 20)). Once per result.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_RANGE (temp_C outside APP_WINDING_TEMP_MIN_C ..
+ *         APP_WINDING_TEMP_MAX_C, or already referred); nothing changes on error.
+ */
+int id_refer_resistance(id_result_t *res, double temp_C);
 
 #ifdef __cplusplus
 }

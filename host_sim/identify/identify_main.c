@@ -119,6 +119,9 @@ static void usage(FILE *f)
             "  --on-error stop|skip    stop at the first bad input (default), or skip it and go on\n"
             "  --gear N                gear ratio motor : plate that splits the identified n Ke = n Kt into\n"
             "                          the model's Ke, Kt (default 40, the model's; only the product is seen)\n"
+            "  --winding-temp C        the winding's temperature during the log [degC], -40 .. 180: the\n"
+            "                          resistance is written referred to 20 degC, the model's reference\n"
+            "                          (copper, +0.393 %%/K; default: the log's resistance as it is)\n"
             "  --quiet                 no progress lines (results and errors are still printed)\n"
             "  --help                  this text\n"
             "\n"
@@ -171,7 +174,8 @@ int main(int argc, char **argv)
     id_result_t res;
     id_data_t d;
     const double t0 = now_s();
-    static const char *const takes_value[] = {"-o", "--out", "--format", "--on-error", "--gear", NULL};
+    static const char *const takes_value[] = {"-o", "--out", "--format", "--on-error", "--gear", "--winding-temp", NULL};
+    double log_temp_C = (double)NAN;
 
     replay_options_default(&opt);
     memset(&smp, 0, sizeof smp);
@@ -208,6 +212,10 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--on-error") == 0) {
             if (cli_on_error(s_prog, a, v, &opt.skip_errors) != 0) {
                 return CLI_EXIT_USAGE;
+            }
+        } else if (strcmp(a, "--winding-temp") == 0) {
+            if (cli_parse_double(v, &log_temp_C) != 0 || !(log_temp_C >= APP_WINDING_TEMP_MIN_C && log_temp_C <= APP_WINDING_TEMP_MAX_C)) {
+                return usage_error("option %s: '%s' is not a temperature in -40 .. 180 degC", a, v);
             }
         } else {
             if (cli_parse_double(v, &gear) != 0 || !(gear > 0.0) || gear > 1000.0) {
@@ -277,6 +285,9 @@ int main(int argc, char **argv)
             fprintf(stderr, "%s: identification failed: %s\n", s_prog, tv_status_str(irc));
             return RLR_EXIT_IO;
         }
+    }
+    if (!isnan(log_temp_C)) {
+        (void)id_refer_resistance(&res, log_temp_C); /* validated above, once */
     }
     print_result(stdout, &res);
     if (!res.moved) {

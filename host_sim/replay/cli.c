@@ -141,6 +141,56 @@ int cli_noise_set(const char *prog, cli_noise_overrides_t *ov, const char *a, co
     return 0;
 }
 
+void cli_temps_default(cli_temps_t *t)
+{
+    memset(t, 0, sizeof *t);
+    t->winding_C = 20.0;
+    t->reading = CLI_TEMP_NONE;
+}
+
+int cli_is_temp_option(const char *a)
+{
+    return strcmp(a, "--winding-temp") == 0 || strcmp(a, "--temp-reading") == 0;
+}
+
+int cli_temp_set(const char *prog, cli_temps_t *t, const char *a, const char *v)
+{
+    const int k = strcmp(a, "--winding-temp") == 0 ? 0 : strcmp(a, "--temp-reading") == 0 ? 1 : -1;
+    double d = 0.0;
+    if (k < 0) {
+        return cli_usage_error(prog, "unknown option '%s'", a);
+    }
+    if (t->given[k]) {
+        return cli_usage_error(prog, "option %s given twice", a);
+    }
+    if (k == 1 && (strcmp(v, "plant") == 0 || strcmp(v, "none") == 0)) {
+        t->reading = v[0] == 'p' ? CLI_TEMP_PLANT : CLI_TEMP_NONE;
+        t->given[k] = 1;
+        return 0;
+    }
+    if (cli_parse_double(v, &d) != 0 || !(d >= -40.0 && d <= 180.0)) {
+        return cli_usage_error(prog, "option %s: '%s' is not a temperature in -40 .. 180 degC%s", a, v,
+                               k == 1 ? " (nor plant or none)" : "");
+    }
+    if (k == 0) {
+        t->winding_C = d;
+    } else {
+        t->reading = CLI_TEMP_VALUE;
+        t->reading_C = d;
+    }
+    t->given[k] = 1;
+    return 0;
+}
+
+int cli_temp_told(const cli_temps_t *t, double *c)
+{
+    if (t->reading == CLI_TEMP_NONE) {
+        return 0;
+    }
+    *c = t->reading == CLI_TEMP_PLANT ? t->winding_C : t->reading_C;
+    return 1;
+}
+
 int cli_same_file(const char *in_path, const char *out_path)
 {
     struct stat si;

@@ -91,6 +91,44 @@ const char *cli_noise_param_key(cli_noise_t idx);
  */
 int cli_noise_set(const char *prog, cli_noise_overrides_t *ov, const char *a, const char *v);
 
+/** The winding-temperature options of host_sim, population and identify. */
+typedef enum {
+    CLI_TEMP_NONE = 0,  /**< the application is not told the temperature (unknown) */
+    CLI_TEMP_VALUE = 1, /**< it is told reading_C */
+    CLI_TEMP_PLANT = 2  /**< it is told the plant's (winding_C) */
+} cli_temp_reading_t;
+
+typedef struct {
+    double winding_C;           /**< --winding-temp: the plant winding's temperature [degC], default 20 */
+    cli_temp_reading_t reading; /**< --temp-reading: plant, none or a value; default none */
+    double reading_C;           /**< that value [degC] */
+    int given[2];               /**< 1 when --winding-temp, --temp-reading were given */
+} cli_temps_t;
+
+/** The options' help lines (host_sim, population). */
+#define CLI_TEMP_HELP                                                                                          \
+    "  --winding-temp C  the plant winding's temperature [degC], -40 .. 180 (default 20): its\n"                \
+    "                    resistance is the unit's at 20 degC times 1 + 0.00393 (C - 20) (copper)\n"           \
+    "  --temp-reading T  what the application is told of it (the CAN command's WindingTemp):\n"              \
+    "                    plant (the plant's), none (default: unknown) or a temperature [degC];\n"             \
+    "                    with it the resistance check refers R to 20 degC (firmware/app/app.h)\n"
+
+/** Defaults: the winding at 20 degC, the temperature not told. */
+void cli_temps_default(cli_temps_t *t);
+
+/** 1 when a is "--winding-temp" or "--temp-reading". */
+int cli_is_temp_option(const char *a);
+
+/**
+ * Parse the value v of a temperature option a: --winding-temp DEGC (-40 .. 180), --temp-reading
+ * plant | none | DEGC (-40 .. 180), each given once.
+ * @return 0; or CLI_EXIT_USAGE after a one-line usage error naming the option and the value.
+ */
+int cli_temp_set(const char *prog, cli_temps_t *t, const char *a, const char *v);
+
+/** The temperature the application is told: 1 and *c when told, 0 when not. */
+int cli_temp_told(const cli_temps_t *t, double *c);
+
 /**
  * Refuse to write an output file that is the input (same device and inode, whatever the path:
  * another spelling, a hard or a symbolic link). "-" or NULL (stdin/stdout) never clash, nor does

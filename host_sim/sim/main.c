@@ -113,7 +113,8 @@ static void usage(FILE *f)
             "          [--pwm-ripple] [--drop-every N] [--out DIR] [--params FILE] [--params-out FILE] [--print-params]\n"
             "          [--raw-log PATH [--raw-format csv|bin]] [--plant-params FILE] [--print-plant-params]\n"
             "          [--plant-class a|b] [--unit ID [--spread stops|all]]\n"
-            "          [--fault KIND[:MAGNITUDE]@T_S[:RAMP_S] ...] [--events FILE] [--help]\n"
+            "          [--fault KIND[:MAGNITUDE]@T_S[:RAMP_S] ...] [--events FILE]\n"
+            "          [--winding-temp DEGC] [--temp-reading plant|none|DEGC] [--help]\n"
             "\n"
             "Runs the firmware's 1 kHz application (double build) against the high-fidelity plant.\n"
             "With no arguments: the paper's experiment (paper_sine, 2 s, seed 1) into out/.\n"
@@ -169,6 +170,7 @@ static void usage(FILE *f)
         fprintf(f, "                      %-24s %s\n", plant_fault_kind_name((plant_fault_kind_t)k),
                 plant_fault_kind_help((plant_fault_kind_t)k));
     }
+    fprintf(f, "%s", CLI_TEMP_HELP);
     fprintf(f,
             "  --events FILE     write the diagnostic events (firmware/diag/diag.h) as CSV:\n"
             "                    t_us,status,fault_class,dtc, status pending|confirmed|healed\n"
@@ -243,13 +245,16 @@ int main(int argc, char **argv)
     int spread_given = 0;
     uint64_t unit_id = 0u;
     cli_noise_overrides_t ov;
+    cli_temps_t temps;
     static const char *const takes_value[] = {"--scenario", "--duration", "--seed", "--mc", "--setup", "--qu", "--qT",
                                               "--r-current", "--r-angle", "--r-velocity", "--drop-every", "--out",
                                               "--params", "--raw-log", "--raw-format", "--plant-params", "--plant-class",
-                                              "--unit", "--spread", "--fault", "--events", "--params-out", NULL};
+                                              "--unit", "--spread", "--fault", "--events", "--params-out",
+                                              "--winding-temp", "--temp-reading", NULL};
 
     sim_options_default(&opt);
     memset(&ov, 0, sizeof ov);
+    cli_temps_default(&temps);
     for (k = 1; k < argc; ++k) {
         const char *a = argv[k];
         const char *v = k + 1 < argc ? argv[k + 1] : NULL;
@@ -359,6 +364,11 @@ int main(int argc, char **argv)
             if (rc != 0) {
                 return rc;
             }
+        } else if (cli_is_temp_option(a)) {
+            rc = cli_temp_set(s_prog, &temps, a, v);
+            if (rc != 0) {
+                return rc;
+            }
         } else {
             if (cli_parse_double(v, &d) != 0) {
                 return usage_error("option %s: '%s' is not a finite number", a, v);
@@ -388,6 +398,8 @@ int main(int argc, char **argv)
     if (ov.given[CLI_NOISE_R_VELOCITY]) {
         opt.r_velocity_rad2_s2 = ov.value[CLI_NOISE_R_VELOCITY];
     }
+    opt.winding_temp_C = temps.winding_C;
+    opt.temp_reading = cli_temp_told(&temps, &opt.temp_reading_C);
     if (spread_given && !unit_given) {
         return usage_error("--spread needs --unit ID (the unit it draws)");
     }

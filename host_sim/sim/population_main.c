@@ -115,6 +115,16 @@ typedef struct {
 static pop_learn_t s_learn[POP_NSEC];
 /** --fault: injected into every scored run (not into the stop learning nor the nominal unit's run). */
 static plant_fault_list_t s_faults;
+/** --winding-temp, --temp-reading: every run of every unit (stop learning, identification, scored). */
+static cli_temps_t s_temps;
+
+/* sim_options_default() with the winding's temperature and what the application is told of it. */
+static void pop_options_default(sim_options_t *opt)
+{
+    sim_options_default(opt);
+    opt->winding_temp_C = s_temps.winding_C;
+    opt->temp_reading = cli_temp_told(&s_temps, &opt->temp_reading_C);
+}
 
 static double max_finite(double a, double b)
 {
@@ -127,7 +137,7 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
     sim_options_t opt;
     sim_result_t r;
     int rc;
-    sim_options_default(&opt);
+    pop_options_default(&opt);
     opt.scenario = SIM_SCN_STOP_LEARN;
     opt.plant = pc;
     opt.app = ac;
@@ -197,7 +207,7 @@ static int identify_unit(const plant_config_t *pc, app_config_t *ac, uint64_t un
     size_t n;
     int rc;
     g.n = 0u;
-    sim_options_default(&opt);
+    pop_options_default(&opt);
     opt.scenario = SIM_SCN_IDENT;
     opt.duration_s = POP_IDENT_S;
     opt.seed = POP_IDENT_SEED;
@@ -218,6 +228,13 @@ static int identify_unit(const plant_config_t *pc, app_config_t *ac, uint64_t un
     rc = id_run(&d, NULL, &res);
     if (rc != TV_OK) {
         return rc;
+    }
+    if (opt.temp_reading) {
+        /* the bench knows the winding's temperature: R referred to 20 degC (identify --winding-temp) */
+        rc = id_refer_resistance(&res, opt.temp_reading_C);
+        if (rc != TV_OK) {
+            return rc;
+        }
     }
     if (!res.moved) {
         fprintf(stderr, "%s: unit %llu: the identification log did not move the plate\n", s_prog, (unsigned long long)unit);
@@ -324,7 +341,8 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--first-seed F] [--scenarios A,B,...]\n"
             "          [--duration S] [--sections LIST] [--params FILE] [--stop-learning on|off]\n"
-            "          [--json PATH] [--runs-csv PATH] [--params-out DIR] [--fault SPEC ...] [--quick] [--help]\n"
+            "          [--json PATH] [--runs-csv PATH] [--params-out DIR] [--fault SPEC ...]\n"
+            "          [--winding-temp DEGC] [--temp-reading plant|none|DEGC] [--quick] [--help]\n"
             "\n"
             "Runs the application's estimator (double build) on a population of throttles\n"
             "(host_sim/plant/plant_draw.h) over a scenario mix and scores its velocity against\n"
@@ -367,6 +385,9 @@ static void usage(FILE *f)
             "  --fault SPEC      inject a fault into every scored run (repeatable; the syntax and kinds\n"
             "                    of host_sim --fault, host_sim/plant/plant_fault.h); the stop learning\n"
             "                    and the nominal unit's reference run stay healthy\n"
+            CLI_TEMP_HELP
+            "                    (every run; the identified section's R is referred to 20 degC\n"
+            "                    with the temperature told, as identify --winding-temp)\n"
             "  --quick           6 plants, 1 seed (a few seconds)\n"
             "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n");
 }
@@ -519,9 +540,10 @@ int main(int argc, char **argv)
     int sec;
     static const char *const takes_value[] = {"--plants", "--seeds", "--first-unit", "--first-seed", "--scenarios", "--duration",
                                               "--sections", "--params", "--json", "--runs-csv", "--stop-learning",
-                                              "--params-out", "--fault", NULL};
+                                              "--params-out", "--fault", "--winding-temp", "--temp-reading", NULL};
     int stop_learning = 1;
 
+    cli_temps_default(&s_temps);
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
         /* ident (30 s, identify's excitation) only on request */
         use_scn[k] = k != (int)SIM_SCN_STUCK_RELEASE && k != (int)SIM_SCN_STOP_LEARN && k != (int)SIM_SCN_IDENT &&
@@ -626,6 +648,11 @@ int main(int argc, char **argv)
             json_path = v;
         } else if (strcmp(a, "--params-out") == 0) {
             params_out = v;
+        } else if (cli_is_temp_option(a)) {
+            const int trc = cli_temp_set(s_prog, &s_temps, a, v);
+            if (trc != 0) {
+                return trc;
+            }
         } else if (strcmp(a, "--fault") == 0) {
             char msg[PLANT_FAULT_MSG_MAX];
             if (plant_fault_list_add(&s_faults, v, msg, sizeof msg) != TV_OK) {
@@ -665,7 +692,7 @@ int main(int argc, char **argv)
         static app_config_t ac;
         sim_options_t opt;
         sim_result_t r;
-        sim_options_default(&opt);
+        pop_options_default(&opt);
         app_config_default(&ac);
         if (params_path != NULL) {
             char err[PARAMS_MSG_MAX];
@@ -738,7 +765,7 @@ int main(int argc, char **argv)
                     sim_result_t r;
                     sim_cond_t cond;
                     pop_run_t *run;
-                    sim_options_default(&opt);
+                    pop_options_default(&opt);
                     opt.scenario = (sim_scenario_t)k;
                     opt.seed = (uint64_t)s;
                     opt.duration_s = duration_s;
@@ -853,6 +880,14 @@ int main(int argc, char **argv)
     fprintf(f, ",\n  \"units\": [%llu, %llu],\n  \"evaluation_set\": %s,\n  \"seeds\": %llu,\n  \"first_seed\": %llu,\n  \"duration_s\": ", first_unit,
             first_unit + plants - 1u, first_unit >= POP_FIRST_EVAL_UNIT ? "true" : "false", seeds, first_seed);
     json_num(f, duration_s > 0.0 ? duration_s : (double)NAN);
+    fprintf(f, ",\n  \"winding_temp_C\": ");
+    json_num(f, s_temps.winding_C);
+    fprintf(f, ",\n  \"temp_reading_C\": ");
+    {
+        double told = (double)NAN;
+        (void)cli_temp_told(&s_temps, &told);
+        json_num(f, told); /* null: the application was not told */
+    }
     fprintf(f, ",\n  \"params\": ");
     if (params_path != NULL) {
         fputc('"', f);

@@ -63,6 +63,8 @@ extern "C" {
 #define SIM_NEES_WINDOW 100u
 /** Longest run sim_run() accepts [s]. */
 #define SIM_DURATION_MAX_S 600.0
+#define SIM_WINDING_TEMP_MIN_C (-40.0) /**< sim_options_t::winding_temp_C range [degC] */
+#define SIM_WINDING_TEMP_MAX_C 180.0
 /** Distance from a plant stop within which stop_contact_speed_max samples the velocity [rad]. */
 #define SIM_CONTACT_NEAR_RAD 0.002
 /** Largest number of seeds sim_monte_carlo() accepts. */
@@ -186,6 +188,14 @@ typedef struct {
      *  friction) have seen the unit before it is scored. Not with stuck_release and stop_learn,
      *  which start from a given plate state. [s] */
     double warmup_s;
+    /** The plant winding's temperature [degC], SIM_WINDING_TEMP_MIN_C .. SIM_WINDING_TEMP_MAX_C,
+     *  default 20: the plant's R is its configuration's (the resistance at 20 degC) times
+     *  1 + APP_COPPER_ALPHA_PER_K (T - 20). Constant over the run. */
+    double winding_temp_C;
+    /** 1: the application is told the winding's temperature temp_reading_C (app_set_winding_temp(),
+     *  as the CAN command's WindingTemp would) before its first step; 0 (default): unknown. */
+    int temp_reading;
+    double temp_reading_C;     /**< [degC], within app_set_winding_temp()'s range (used with temp_reading) */
     const plant_fault_list_t *faults; /**< NULL, or faults injected into the plant and its sensors
                                     (plant_fault.h): each tick t_k the faults in force at t_k are set
                                     before the application reads the ADC */
@@ -232,7 +242,10 @@ typedef struct {
     uint32_t consistency_flag_ticks; /**< ticks with a consistency flag raised */
     double r_est_ohm;                /**< the filter's winding resistance R + dR at the end [ohm] */
     double r_sigma_ohm;              /**< its standard deviation [ohm] (0: no resistance-error state) */
-    double r_true_ohm;               /**< the plant's winding resistance [ohm] */
+    double r_true_ohm;               /**< the plant's winding resistance [ohm] (at its temperature) */
+    double r_20_ohm;                 /**< the estimate referred to 20 degC (app_output_t::r_20_ohm) [ohm];
+                                          NaN when the application was not told the temperature */
+    double r_true_20_ohm;            /**< the plant's at 20 degC [ohm] */
     double friction_rel;             /**< the filter's friction level relative to its model's, 1 + f, at the end [-] */
     double friction_rel_sigma;       /**< its standard deviation [-] (0: no friction-error state) */
     double friction_rel_true;        /**< the plant's Coulomb friction relative to the filter model's [-] */

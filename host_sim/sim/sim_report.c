@@ -123,6 +123,10 @@ int sim_result_print(FILE *f, const sim_result_t *r)
             r->nis_ch_avg[EKF_CH_CURRENT], r->nis_ch_avg[EKF_CH_VELOCITY], r->nis_ch_avg[EKF_CH_ANGLE]);
     fprintf(f, "winding resistance at the end: estimate %.4g +- %.3g ohm (R + dR, ekf_resistance_error()), plant %.4g ohm\n",
             r->r_est_ohm, r->r_sigma_ohm, r->r_true_ohm);
+    if (isfinite(r->r_20_ohm)) {
+        fprintf(f, "  referred to 20 degC with the winding temperature the application was told: %.4g ohm, plant %.4g ohm\n",
+                r->r_20_ohm, r->r_true_20_ohm);
+    }
     fprintf(f, "friction level at the end: %.4g +- %.3g of the filter model's (1 + f, ekf_friction_error()), plant's "
                "Coulomb friction %.4g of it\n",
             r->friction_rel, r->friction_rel_sigma, r->friction_rel_true);
@@ -235,6 +239,10 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     sim_jnum(f, r->r_sigma_ohm);
     fputs(", \"plant_ohm\": ", f);
     sim_jnum(f, r->r_true_ohm);
+    fputs(", \"estimate_20C_ohm\": ", f);
+    sim_jnum(f, r->r_20_ohm);
+    fputs(", \"plant_20C_ohm\": ", f);
+    sim_jnum(f, r->r_true_20_ohm);
     fputs("},\n  \"friction_level\": {\"estimate_rel\": ", f);
     sim_jnum(f, r->friction_rel);
     fputs(", \"sigma_rel\": ", f);

@@ -237,6 +237,10 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
     if (opt->pwm_ripple) {
         pcfg.pwm_ripple = 1;
     }
+    if (!(opt->winding_temp_C >= SIM_WINDING_TEMP_MIN_C && opt->winding_temp_C <= SIM_WINDING_TEMP_MAX_C)) {
+        return TV_ERR_RANGE;
+    }
+    pcfg.R_ohm *= 1.0 + APP_COPPER_ALPHA_PER_K * (opt->winding_temp_C - APP_R_REF_TEMP_C);
     rc = sim_hal_configure(&pcfg, opt->seed);
     if (rc != TV_OK) {
         return rc;
@@ -275,6 +279,12 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
     rc = app_init(app, &acfg);
     if (rc != TV_OK) {
         return rc;
+    }
+    if (opt->temp_reading) {
+        rc = app_set_winding_temp(app, 1, (tv_real_t)opt->temp_reading_C);
+        if (rc != TV_OK) {
+            return rc;
+        }
     }
     memset(side, 0, sizeof *side);
     ekf_config_paper(&paper_cfg);
@@ -630,6 +640,8 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->r_est_ohm = (double)(app->ekf.model.p.R_ohm + dR);
         res->r_sigma_ohm = (double)sR;
         res->r_true_ohm = pcfg.R_ohm;
+        res->r_true_20_ohm = pcfg.R_ohm / (1.0 + APP_COPPER_ALPHA_PER_K * (opt->winding_temp_C - APP_R_REF_TEMP_C));
+        res->r_20_ohm = app->winding_temp_known ? res->r_est_ohm * (double)app->r_temp_inv : (double)NAN;
     }
     {
         tv_real_t f;

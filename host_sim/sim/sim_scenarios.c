@@ -91,6 +91,7 @@ void sim_options_default(sim_options_t *opt)
     opt->setup = EKF_SETUP_CURRENT_ANGLE;
     opt->qu_V2_s = (double)EKF_DEFAULT_QU_V2_S;
     opt->qT_Nm2_s = (double)EKF_DEFAULT_QT_NM2_S;
+    opt->winding_temp_C = APP_R_REF_TEMP_C;
 }
 
 /* ------------------------------------------------------------------------------------------ */
