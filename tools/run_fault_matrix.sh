@@ -7,7 +7,9 @@
 # friction and spring; all_varied: every parameter spread, the filter on its class's defaults;
 # all_varied_identified: the same units, the filter on the parameters identify found in each
 # unit's healthy end-of-line log, diag.identified = 1)
-# x noise seeds, the fault injected at ONSET s into runs of DURATION s; the same runs
+# x noise seeds, the fault injected at ONSET s into runs of DURATION s, every unit's winding at
+# 20 degC and the application told so (--temp-reading plant: the CAN command's WindingTemp, so
+# an identified unit's resistance bound is 1.15 R, firmware/diag/diag_detect.h); the same runs
 # healthy; and the long healthy soak (tools/run_healthy_soak.sh). tools/fault_matrix.py writes
 # out/fault_matrix/summary.json (per class: detection_rate, delay_median_s, delay_p95_s,
 # isolation_rate; for jam, winding_open and spring_weak also the delay from the observable
@@ -52,7 +54,7 @@ while (($#)); do
     --no-soak) soak=0 ;;
     --soak-from) soak=0; soak_from=$2; shift ;;
     --jobs) jobs=$2; shift ;;
-    -h|--help) sed -n '2,31p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,33p' "$0"; exit 0 ;;
     *) echo "run_fault_matrix.sh: unknown option '$1' (--help)" >&2; exit 2 ;;
   esac
   shift
@@ -76,7 +78,8 @@ specs=(
   bridge_pos_lost bridge_neg_lost
   supply_sag:2 supply_sag:3 supply_sag:5
 )
-common=(--plants "$plants" --seeds "$seeds" --sections stops,all,identified --scenarios "$scenarios" --duration "$duration")
+common=(--plants "$plants" --seeds "$seeds" --sections stops,all,identified --scenarios "$scenarios" --duration "$duration"
+  --temp-reading plant)
 pop=build/host-release/bin/population
 echo "fault matrix: ${#specs[@]} fault specs + healthy, ${plants} units x 3 sections x ${scenarios//,/ } x ${seeds} seed(s), ${duration} s runs, onset ${ONSET} s" >&2
 # one population process per spec, $jobs at a time; each writes its own runs CSV and log
@@ -99,7 +102,7 @@ if [[ -n $soak_from && ! -f $soak_from ]]; then
 fi
 if ((soak)); then
   echo "healthy soak: ${soak_duration} s per run (tools/run_healthy_soak.sh)" >&2
-  tools/run_healthy_soak.sh --duration "$soak_duration" \
+  tools/run_healthy_soak.sh --duration "$soak_duration" --temp-reading plant \
     --scenarios paper_sine,closed_steps,closed_ramp,chirp,slow_sine,open_steps,standstill,limp_home,drive >&2
   soak_json=out/soak/summary.json
 fi
