@@ -8,6 +8,7 @@ usage: test_replay_cli.py BIN_DIR WORK_DIR   (BIN_DIR holds host_sim, replay, ..
 Standard library only.
 """
 import csv
+import json
 import os
 import shutil
 import struct
@@ -347,6 +348,29 @@ def main():
           "replay --events reproduces host_sim's track events:\n%s\n--\n%s" % ("\n".join(sim_ev), "\n".join(rep_ev)))
     expect([exe("replay"), path("dtc_raw.csv"), "-o", path("dtc_rep.csv"), "--events", path("dtc_raw.csv")], 2,
            "is the input log")
+
+    # --- the winding's temperature: a healthy winding at 110 degC (1.35 x its 20 degC resistance)
+    # reads as P2101 to an application that is not told the temperature, and as healthy to one
+    # that is (host_sim --winding-temp / --temp-reading, replay --winding-temp)
+    expect([exe("host_sim"), "--scenario", "closed_steps", "--duration", "6", "--winding-temp", "110", "--out",
+            path("warm"), "--raw-log", path("warm_raw.csv"), "--events", path("warm_sim.csv")], 0)
+    check(any(",confirmed,winding_resistance_high,P2101" in l for l in open(path("warm_sim.csv"))),
+          "host_sim: 110 degC untold confirms P2101")
+    expect([exe("replay"), path("warm_raw.csv"), "-o", path("warm_rep.csv")], 0,
+           "diagnostic codes confirmed: P2101 (winding_resistance_high)")
+    expect([exe("replay"), path("warm_raw.csv"), "-o", path("warm_rep.csv"), "--winding-temp", "110"], 0,
+           "diagnostic codes confirmed: none")
+    expect([exe("host_sim"), "--scenario", "closed_steps", "--duration", "6", "--winding-temp", "110",
+            "--temp-reading", "plant", "--out", path("warm2"), "--events", path("warm_sim2.csv")], 0)
+    check(not any("P2101" in l for l in open(path("warm_sim2.csv"))), "host_sim: 110 degC told: no P2101")
+    with open(os.path.join(path("warm2"), "closed_steps_metrics.json")) as f:
+        wr = json.load(f)["winding_resistance"]
+    check(abs(wr["plant_20C_ohm"] - 4.3) < 1e-9 and abs(wr["estimate_20C_ohm"] / 4.3 - 1.0) < 0.02,
+          "host_sim: R referred to 20 degC: %s" % wr)
+    expect([exe("replay"), path("warm_raw.csv"), "--winding-temp", "181"], 2, "--winding-temp")
+    expect([exe("host_sim"), "--winding-temp", "-41"], 2, "--winding-temp")
+    expect([exe("host_sim"), "--temp-reading", "hot"], 2, "--temp-reading", "plant or none")
+    expect([exe("host_sim"), "--winding-temp", "20", "--winding-temp", "30"], 2, "given twice")
 
     print("%d checks, %d failed" % (CHECKS[0], len(FAILED)))
     return 1 if FAILED else 0

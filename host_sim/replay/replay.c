@@ -344,6 +344,13 @@ int replay_run(rlr_t *r, const replay_options_t *o, replay_stats_t *st)
                 explain_config(r, o, &cfg, rc, err, sizeof err);
             }
         }
+        if (rc == TV_OK && o->temp_known) {
+            rc = app_set_winding_temp(&app, 1, (tv_real_t)o->winding_temp_C);
+            if (rc != TV_OK) {
+                (void)snprintf(err, sizeof err, "winding temperature %g degC: outside %g .. %g degC", o->winding_temp_C,
+                               APP_WINDING_TEMP_MIN_C, APP_WINDING_TEMP_MAX_C);
+            }
+        }
     }
     if (rc != TV_OK) {
         st->config_error = 1;

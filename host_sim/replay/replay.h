@@ -69,6 +69,8 @@ typedef struct {
     unsigned max_messages;      /**< messages per error class, and gap notes */
     int progress;               /**< 1: a progress line on diag (the tool sets it when diag is a tty) */
     int timing;                 /**< 1: measure the time inside app_step() */
+    int temp_known;             /**< 1: the application is told winding_temp_C (app_set_winding_temp()) */
+    double winding_temp_C;      /**< the winding's temperature during the log [degC] (with temp_known) */
     const char *params_name;    /**< parameter file name for the output's comment (NULL: none) */
     replay_sample_fn on_sample; /**< NULL, or called per replayed sample */
     void *user;                 /**< passed to on_sample */

@@ -52,6 +52,9 @@ static void usage(FILE *f)
             "  --wide                  also measurements, supply voltage, innovation sigmas\n"
             "  --events FILE           write the diagnostic events (firmware/diag/diag.h) as CSV:\n"
             "                          t_us,status,fault_class,dtc (status pending|confirmed|healed)\n"
+            "  --winding-temp C        the winding's temperature during the log [degC], -40 .. 180, told to\n"
+            "                          the application (the CAN command's WindingTemp): the resistance\n"
+            "                          check refers R (at 20 degC) to it (default: unknown)\n"
             "  --parse-only            read and validate the log only (no estimator, no output)\n"
             "  --timing                print timing (share outside the estimator) and peak RSS at the end\n"
             "  --quiet                 no summary on stderr (errors are still printed)\n"
@@ -88,7 +91,7 @@ int main(int argc, char **argv)
     cli_noise_overrides_t ov;
     static const char *const takes_value[] = {"--format", "-o", "--out", "--setup", "--params", "--qu", "--qT",
                                               "--r-current", "--r-angle", "--r-velocity", "--start", "--stop",
-                                              "--on-error", "--max-messages", "--events", NULL};
+                                              "--on-error", "--max-messages", "--events", "--winding-temp", NULL};
 
     replay_options_default(&opt);
     memset(&ov, 0, sizeof ov);
@@ -136,6 +139,12 @@ int main(int argc, char **argv)
             }
         } else if (strcmp(a, "-o") == 0 || strcmp(a, "--out") == 0) {
             out_path = v;
+        } else if (strcmp(a, "--winding-temp") == 0) {
+            if (cli_parse_double(v, &d) != 0 || !(d >= APP_WINDING_TEMP_MIN_C && d <= APP_WINDING_TEMP_MAX_C)) {
+                return usage_error("option %s: '%s' is not a temperature in -40 .. 180 degC", a, v);
+            }
+            opt.temp_known = 1;
+            opt.winding_temp_C = d;
         } else if (strcmp(a, "--events") == 0) {
             if (*v == '\0') {
                 return usage_error("option %s: empty path", a);
