@@ -13,12 +13,24 @@
 #include "tv_status.h"
 #include "tv_test.h"
 
+/* Run *opt (its faults replaced by spec, a host_sim --fault SPEC, or none when NULL). */
+static inline void sim_fault_run_opt(sim_options_t *opt, const char *spec, sim_result_t *r)
+{
+    static plant_fault_list_t l;
+    plant_fault_list_clear(&l);
+    opt->faults = NULL;
+    if (spec != NULL) {
+        TV_CHECK_EQ_INT(plant_fault_list_add(&l, spec, NULL, 0u), TV_OK);
+        opt->faults = &l;
+    }
+    TV_CHECK_EQ_INT(sim_run(opt, r), TV_OK);
+}
+
 /* One run with one fault (spec NULL: healthy), of duration_s [s] (0: the scenario's own). */
 static inline void sim_fault_run(const plant_config_t *pc, const app_config_t *ac, sim_scenario_t scn, uint64_t seed,
                                  const char *spec, double duration_s, sim_result_t *r)
 {
     sim_options_t opt;
-    static plant_fault_list_t l;
     sim_options_default(&opt);
     if (duration_s > 0.0) {
         opt.duration_s = duration_s;
@@ -27,12 +39,7 @@ static inline void sim_fault_run(const plant_config_t *pc, const app_config_t *a
     opt.seed = seed;
     opt.plant = pc;
     opt.app = ac;
-    plant_fault_list_clear(&l);
-    if (spec != NULL) {
-        TV_CHECK_EQ_INT(plant_fault_list_add(&l, spec, NULL, 0u), TV_OK);
-        opt.faults = &l;
-    }
-    TV_CHECK_EQ_INT(sim_run(&opt, r), TV_OK);
+    sim_fault_run_opt(&opt, spec, r);
 }
 
 /* 1 when code d was pending or confirmed at any time of the run. */

@@ -346,24 +346,15 @@ static void test_winding_resistance_out_of_range(void)
  * told told_C (NaN: not told); a fault spec or NULL. */
 static void run_warm(const app_config_t *ac, double plant_C, double told_C, const char *spec, sim_result_t *r)
 {
-    static plant_config_t pc;
-    static plant_fault_list_t l;
     sim_options_t opt;
-    plant_config_default(&pc);
     sim_options_default(&opt);
     opt.scenario = SIM_SCN_CLOSED_STEPS;
     opt.duration_s = 6.0;
-    opt.plant = &pc;
     opt.app = ac;
     opt.winding_temp_C = plant_C;
     opt.temp_reading = isfinite(told_C);
     opt.temp_reading_C = told_C;
-    plant_fault_list_clear(&l);
-    if (spec != NULL) {
-        TV_CHECK_EQ_INT(plant_fault_list_add(&l, spec, NULL, 0u), TV_OK);
-        opt.faults = &l;
-    }
-    TV_CHECK_EQ_INT(sim_run(&opt, r), TV_OK);
+    sim_fault_run_opt(&opt, spec, r);
 }
 
 /* The winding's temperature (app_set_winding_temp()). The plant's R follows copper from its 20 degC
