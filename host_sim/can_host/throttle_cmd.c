@@ -105,7 +105,7 @@ static int parse_temp(const char *s, can_proto_control_t *c)
         c->winding_temp_C = 0.0f;
         return 0;
     }
-    if (parse_float(s, &t) != 0 || !(t >= -40.0f && t <= 180.0f)) {
+    if (parse_float(s, &t) != 0 || !(t >= (float)APP_WINDING_TEMP_MIN_C && t <= (float)APP_WINDING_TEMP_MAX_C)) {
         return -1;
     }
     c->temp_valid = 1u;

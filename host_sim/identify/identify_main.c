@@ -214,7 +214,7 @@ int main(int argc, char **argv)
                 return CLI_EXIT_USAGE;
             }
         } else if (strcmp(a, "--winding-temp") == 0) {
-            if (cli_parse_double(v, &log_temp_C) != 0 || !(log_temp_C >= APP_WINDING_TEMP_MIN_C && log_temp_C <= APP_WINDING_TEMP_MAX_C)) {
+            if (cli_parse_temp(v, &log_temp_C) != 0) {
                 return usage_error("option %s: '%s' is not a temperature in -40 .. 180 degC", a, v);
             }
         } else {

@@ -141,6 +141,16 @@ int cli_noise_set(const char *prog, cli_noise_overrides_t *ov, const char *a, co
     return 0;
 }
 
+int cli_parse_temp(const char *s, double *out)
+{
+    double d = 0.0;
+    if (cli_parse_double(s, &d) != 0 || !(d >= CLI_TEMP_MIN_C && d <= CLI_TEMP_MAX_C)) {
+        return -1;
+    }
+    *out = d;
+    return 0;
+}
+
 void cli_temps_default(cli_temps_t *t)
 {
     memset(t, 0, sizeof *t);
@@ -168,7 +178,7 @@ int cli_temp_set(const char *prog, cli_temps_t *t, const char *a, const char *v)
         t->given[k] = 1;
         return 0;
     }
-    if (cli_parse_double(v, &d) != 0 || !(d >= -40.0 && d <= 180.0)) {
+    if (cli_parse_temp(v, &d) != 0) {
         return cli_usage_error(prog, "option %s: '%s' is not a temperature in -40 .. 180 degC%s", a, v,
                                k == 1 ? " (nor plant or none)" : "");
     }

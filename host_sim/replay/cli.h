@@ -113,6 +113,15 @@ typedef struct {
     "                    plant (the plant's), none (default: unknown) or a temperature [degC];\n"             \
     "                    with it the resistance check refers R to 20 degC (firmware/app/app.h)\n"
 
+/** app_set_winding_temp()'s range (APP_WINDING_TEMP_MIN_C .. MAX_C of firmware/app/app.h; this
+ *  library has no scalar type and does not include it) [degC]. */
+#define CLI_TEMP_MIN_C (-40.0)
+#define CLI_TEMP_MAX_C 180.0
+
+/** Parse a winding temperature [degC]: a finite number within CLI_TEMP_MIN_C .. CLI_TEMP_MAX_C.
+ *  @return 0, or -1 (nothing written). */
+int cli_parse_temp(const char *s, double *out);
+
 /** Defaults: the winding at 20 degC, the temperature not told. */
 void cli_temps_default(cli_temps_t *t);
 

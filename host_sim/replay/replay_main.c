@@ -140,7 +140,7 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "-o") == 0 || strcmp(a, "--out") == 0) {
             out_path = v;
         } else if (strcmp(a, "--winding-temp") == 0) {
-            if (cli_parse_double(v, &d) != 0 || !(d >= APP_WINDING_TEMP_MIN_C && d <= APP_WINDING_TEMP_MAX_C)) {
+            if (cli_parse_temp(v, &d) != 0) {
                 return usage_error("option %s: '%s' is not a temperature in -40 .. 180 degC", a, v);
             }
             opt.temp_known = 1;
