@@ -1869,6 +1869,98 @@ static void test_motor_constant_signature(void)
     }
 }
 
+/* The offset signature (diag_detect.h, identified units) on scripted estimates: every step
+ * diag_param_check() then diag_resistance_check() (temperature known: P2101's bound 1.15) with
+ * the apparent resistance ratio, friction f and preload m held, for `checks` mechanics checks.
+ * Returns the mechanics check at which P1A04 confirmed (0: never). */
+static int offset_case(int identified, tv_real_t ratio, tv_real_t f, tv_real_t m, int checks, int flicker, diag_t *d)
+{
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int k;
+    int confirmed_at = 0;
+    diag_detect_config_default(&cfg);
+    if (identified) {
+        diag_detect_config_identified(&cfg);
+    }
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    TV_CHECK_EQ_INT((int)cfg.isens_sig_checks, 30);
+    diag_init(d);
+    memset(&snap, 0, sizeof snap);
+    for (k = 1; k <= checks * (int)DIAG_PARAM_DECIM; ++k) {
+        const int check = (k - 1) / (int)DIAG_PARAM_DECIM + 1;
+        /* flicker: every flicker-th check the preload reads 1 (the run of checks starts over) */
+        const tv_real_t mk = flicker > 0 && check % flicker == 0 ? TV_R(1.0) : m;
+        snap.t_us = (uint64_t)k * 1000u;
+        diag_param_check(&dd, d, 1, TV_R(1.0), f, TV_R(0.02), mk, TV_R(0.01), &snap);
+        diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), 1, &snap);
+        if (confirmed_at == 0 && diag_confirmed(d, DIAG_DTC_P1A04)) {
+            confirmed_at = check;
+        }
+    }
+    return confirmed_at;
+}
+
+/* A current sensor that reads too little (an offset of -b, or a gain below 1) makes an identified
+ * unit's apparent resistance read high on the holding current's side, as a raised resistance
+ * does, but also leaves the torque per measured ampere short, which lowers the adapted preload;
+ * a positive offset the reverse, with the friction as it was (a gain above 1 or shorted turns
+ * raise it too). Measured before this check: an offset of -0.1 A confirmed P2101 first in 15 of
+ * 50 runs of the fault matrix's identified section. Scripted: the resistance 1.2 with the
+ * preload 0.95 confirms P1A04 at the 35th check (30 in a row, then its 6 failing checks), never
+ * P2101; with the preload 1.0, P2101 and never P1A04; the resistance 0.9 with the preload 1.05
+ * and the friction 1.0: P1A04 at the 35th; with the friction 1.05 too: no P1A04 without a back-
+ * EMF window (the motor-constant signature's case); a preload that reads 1 every 29th check:
+ * never (the run of 30 in a row); the class's bounds: never. */
+static void test_offset_signature(void)
+{
+    static diag_t d;
+    TV_CHECK_EQ_INT(offset_case(1, TV_R(1.2), TV_R(1.0), TV_R(0.95), 60, 0, &d), 35);
+    TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P2101));
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 1.2, 1e-5);
+    TV_CHECK_EQ_INT(offset_case(1, TV_R(1.2), TV_R(0.9), TV_R(0.95), 60, 0, &d), 35); /* a gain below 1 */
+    TV_CHECK_EQ_INT(offset_case(1, TV_R(1.2), TV_R(1.0), TV_R(1.0), 60, 0, &d), 0);
+    TV_CHECK(diag_confirmed(&d, DIAG_DTC_P2101));
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+    TV_CHECK_EQ_INT(offset_case(1, TV_R(0.9), TV_R(1.0), TV_R(1.05), 60, 0, &d), 35);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A01) && !diag_confirmed(&d, DIAG_DTC_P1A01));
+    TV_CHECK_EQ_INT(offset_case(1, TV_R(0.9), TV_R(1.05), TV_R(1.05), 60, 0, &d), 0);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+    TV_CHECK_EQ_INT(offset_case(1, TV_R(1.2), TV_R(1.0), TV_R(0.95), 120, 29, &d), 0);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+    TV_CHECK_EQ_INT(offset_case(0, TV_R(1.2), TV_R(1.0), TV_R(0.95), 60, 0, &d), 0);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P2101));
+}
+
+/* The offset signature on the plant: the identified nominal unit (as test_current_gain_identified)
+ * in closed-loop driving, from 1.0 s: a current offset of -0.1 A and +0.1 A and a gain of -10 %
+ * confirm P1A04, never P2101; a resistance x2 confirms P2101, never P1A04 (its step dips the
+ * adapted preload for a few checks). 12 s runs, seed 1. */
+static void test_current_offset_identified(void)
+{
+    static plant_config_t pc;
+    static app_config_t ac;
+    static const char *const fault[3] = {"current_offset:-0.1@1.0", "current_offset:0.1@1.0", "current_gain:-10@1.0"};
+    sim_result_t r;
+    int k;
+    double worst = 0.0;
+    plant_config_default(&pc);
+    app_config_default(&ac);
+    diag_detect_config_identified(&ac.diag);
+    for (k = 0; k < 3; ++k) {
+        sim_fault_run(&pc, &ac, SIM_SCN_DRIVE, 1u, fault[k], 12.0, &r);
+        worst = fmax(worst, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) ? r.dtc_confirm_t_s[DIAG_DTC_P1A04] - 1.0 : 1e9);
+        TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+    }
+    sim_fault_run(&pc, &ac, SIM_SCN_DRIVE, 1u, "winding_resistance_high:2@1.0", 12.0, &r);
+    TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+    TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]));
+    printf("  identified unit: current offset -0.1 / +0.1 A, gain -10 %% P1A04 at most %.2f s after the onset; "
+           "resistance x2 P2101 at %.2f s\n", worst, r.dtc_confirm_t_s[DIAG_DTC_P2101] - 1.0);
+    TV_CHECK_LE(worst, 10.0);
+}
+
 /* A current-sensor gain on an identified unit (the nominal plant with the default filter, as in
  * test_friction_plus_25_percent_identified, diag_detect_config_identified()), from 1.0 s in
  * closed-loop driving: +5 % and +20 % confirm P1A04 (the motor-constant signature; before it,
@@ -1967,6 +2059,8 @@ int main(void)
     TV_TEST_RUN(test_friction_plus_25_percent_identified);
     TV_TEST_RUN(test_motor_constant_signature);
     TV_TEST_RUN(test_current_gain_identified);
+    TV_TEST_RUN(test_offset_signature);
+    TV_TEST_RUN(test_current_offset_identified);
     TV_TEST_RUN(test_no_code_confirmed_on_healthy_units);
     return tv_test_summary();
 }

@@ -74,7 +74,7 @@ specs=(
   winding_short:0.2 winding_short:0.35 winding_short:0.5
   tps1_offset:1 tps1_offset:-2 tps1_offset:5 tps1_gain:5 tps1_stuck tps1_intermittent:0.01 tps1_intermittent:0.1
   tps2_offset:-1 tps2_offset:2 tps2_offset:-5 tps2_gain:-5 tps2_stuck tps2_intermittent:0.01 tps2_intermittent:0.1
-  current_offset:0.02 current_offset:0.05 current_offset:0.1 current_gain:5 current_gain:10 current_gain:20
+  current_offset:0.02 current_offset:0.05 current_offset:-0.05 current_offset:0.1 current_gain:5 current_gain:-5 current_gain:10 current_gain:20
   bridge_pos_lost bridge_neg_lost
   supply_sag:2 supply_sag:3 supply_sag:5
 )

@@ -69,6 +69,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->gain_kw_max = TV_R(0.006);
     cfg->gain_w_var_min = TV_R(0.09);
     cfg->gain_hold_checks = 300u;
+    cfg->isens_sig_checks = 30u;
     cfg->identified = 0u;
 }
 
@@ -123,7 +124,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
         !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u ||
         !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0)) ||
-        cfg->gain_hold_checks == 0u || !(cfg->open_emf_allow_V >= TV_R(0.0)) ||
+        cfg->gain_hold_checks == 0u || cfg->isens_sig_checks == 0u || !(cfg->open_emf_allow_V >= TV_R(0.0)) ||
         !(cfg->open_emf_allow_V < cfg->open_u_min_V)) {
         return TV_ERR_CONFIG;
     }
@@ -435,9 +436,16 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
             dd->gain_wait = 0u;
         }
         dd->r_low = low;
+        dd->r_high = dd->cfg.identified && ratio * dd->cfg.gain_r_max > TV_R(1.0) ? 1u : 0u;
     }
     high = temp_known ? dd->cfg.r_high_frac_known : dd->cfg.r_high_frac;
-    (void)diag_report(d, DIAG_DTC_P2101, ratio > high ? DIAG_FAIL : DIAG_PASS, snap, ratio);
+    if (!(ratio > high)) {
+        (void)diag_report(d, DIAG_DTC_P2101, DIAG_PASS, snap, ratio);
+    } else if (!dd->m_low) {
+        /* (with the preload down as well, the current sensor reads too little: P1A04 in
+         * diag_param_check(), no verdict here) */
+        (void)diag_report(d, DIAG_DTC_P2101, DIAG_FAIL, snap, ratio);
+    }
     if (ratio < dd->cfg.r_low_frac) {
         (void)diag_report(d, DIAG_DTC_P1A01, DIAG_FAIL, snap, ratio);
     } else if (!dd->r_low) {
@@ -598,6 +606,29 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
     if (!active || !TV_IS_FINITE(w_rad_s) || TV_FABS(w_rad_s) < dd->cfg.param_excite_rad_s ||
         !TV_IS_FINITE(friction_rel) || !TV_IS_FINITE(preload_rel)) {
         return;
+    }
+    {
+        /* OFFSET SIGNATURE (identified units): the apparent resistance and the preload off
+         * together with the friction as it was, i.e. a constant torque per measured ampere short
+         * or in excess: a current-sensor offset (or, resistance up, a gain below 1, which lowers
+         * the friction too); a raised resistance leaves the mechanics alone, and a gain above 1 or
+         * shorted turns scale the friction with the preload (the motor-constant signature below).
+         * Held for isens_sig_checks checks in a row: a resistance step dips the preload for a
+         * few checks while the estimator catches up. */
+        const int m_ok = TV_IS_FINITE(preload_sigma) && preload_sigma <= dd->cfg.preload_sigma_max;
+        const int f_ok = TV_IS_FINITE(friction_sigma) && friction_sigma <= dd->cfg.friction_sigma_max;
+        int offset_sig;
+        if (m_ok) {
+            dd->m_low = dd->cfg.identified && preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ? 1u : 0u;
+        }
+        offset_sig = m_ok && !motor_or_jam(d) &&
+                     ((dd->r_high && dd->m_low) ||
+                      (dd->r_low && f_ok && preload_rel > dd->cfg.gain_mech_min && friction_rel < dd->cfg.gain_mech_min &&
+                       friction_rel * dd->cfg.gain_mech_min > TV_R(1.0)));
+        dd->offset_sig_n = offset_sig ? (uint16_t)(dd->offset_sig_n + (dd->offset_sig_n < 0xFFFFu ? 1u : 0u)) : 0u;
+        if (dd->offset_sig_n >= dd->cfg.isens_sig_checks) {
+            (void)diag_report(d, DIAG_DTC_P1A04, DIAG_FAIL, snap, dd->r_ratio);
+        }
     }
     if (dd->r_low && dd->kw_ok && friction_rel > dd->cfg.gain_mech_min && preload_rel > dd->cfg.gain_mech_min &&
         TV_IS_FINITE(friction_sigma) && friction_sigma <= dd->cfg.friction_sigma_max && TV_IS_FINITE(preload_sigma) &&

@@ -170,6 +170,15 @@
  *     not fail while the preload is up too or for gain_hold_checks checks (a gain error raises
  *     the friction before the preload); after that, friction up alone fails P2119 as before. A
  *     cold winding lowers R alone, ice raises friction alone: neither moves all three.
+ *     The mirror image: the apparent resistance ABOVE 1 / gain_r_max with the adapted preload
+ *     1 + m BELOW 1 / gain_mech_min (its sigma within preload_sigma_max; the friction free) is a
+ *     current sensor that reads too little: a negative offset b (R reads i / (i + b) times its
+ *     value on the holding current's side, and the torque per measured ampere is short by about
+ *     n Kt b, which the preload takes up) or a gain below 1 (R reads 1 / g, friction and preload
+ *     g). diag_param_check() fails P1A04 at each such check (value: (R + dR) / R), and while
+ *     1 + m reads that low P2101 is not failed (no verdict): a raised resistance leaves the
+ *     mechanics alone (measured: 1 + m 0.987-1.002 with R x1.25 and x1.5; 0.75-0.98 with an
+ *     offset of -0.1 A). No shorted turns raise the resistance, so no back-EMF slope is needed.
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -368,6 +377,11 @@ typedef struct {
                                        mechanics checks [checks], > 0; default 300 (3 s of motion: a gain
                                        error raises the friction before the preload; friction alone on a
                                        cold winding, whose R reads low, is then judged as before) */
+    uint16_t isens_sig_checks;    /**< OFFSET SIGNATURE (identified units): P1A04 fails once the apparent
+                                       resistance and the preload have read off together, the friction as
+                                       it was, for this many mechanics checks in a row [checks], > 0;
+                                       default 30 (300 ms of motion: a resistance x2 dips the preload for
+                                       about 60 ms while the estimator catches up) */
     uint8_t identified;           /**< 1: the bounds of diag_detect_config_identified() are in force (the
                                        filter's model is the unit's own); 0: the class's (default) */
 } diag_detect_config_t;
@@ -436,8 +450,12 @@ typedef struct {
     tv_real_t isens_kw;    /**< the back-EMF slope kw of the last in-service window judged while the
                                 apparent resistance was below gain_r_max [A s/rad] */
     uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units) */
+    uint8_t r_high;        /**< 1 while (R + dR) / R > 1 / gain_r_max (identified units) */
+    uint8_t m_low;         /**< 1 while the adapted preload 1 + m < 1 / gain_mech_min with its sigma within
+                                preload_sigma_max (identified units; set by diag_param_check()) */
     uint8_t kw_ok;         /**< 1 once a window's kw was taken since r_low was set */
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
+    uint16_t offset_sig_n; /**< mechanics checks in a row that read the offset signature (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
     uint8_t probe_n;       /**< probes that moved the plate since the suspicion was raised */
     uint8_t probe_creep;   /**< 1: the running probe began on a plate creeping toward limp-home */
