@@ -1758,7 +1758,7 @@ static void test_friction_plus_25_percent_identified(void)
  * down: shorted turns) P1A01 fails instead. Nothing without the identified bounds, with the
  * resistance in range, with only one of friction and preload up, or before a window was judged;
  * friction up alone with the resistance low fails P2119 after gain_hold_checks checks. */
-static void sig_case(int identified, tv_real_t ratio, tv_real_t kw, tv_real_t f, tv_real_t m, int windows, diag_t *d)
+static void sig_case(int identified, int temp_known, tv_real_t ratio, tv_real_t kw, tv_real_t f, tv_real_t m, int windows, diag_t *d)
 {
     static diag_detect_t dd;
     diag_detect_config_t cfg;
@@ -1771,7 +1771,7 @@ static void sig_case(int identified, tv_real_t ratio, tv_real_t kw, tv_real_t f,
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
     diag_init(d);
     memset(&snap, 0, sizeof snap);
-    diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), 0, &snap);
+    diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), temp_known, &snap);
     for (k = 0; k < windows * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE; ++k) {
         const tv_real_t i = isens_i(k);
         const tv_real_t w = isens_w(k);
@@ -1788,22 +1788,30 @@ static void sig_case(int identified, tv_real_t ratio, tv_real_t kw, tv_real_t f,
 static void test_motor_constant_signature(void)
 {
     static diag_t d;
-    sig_case(1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 1, &d);
+    sig_case(1, 0, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 1, &d);
     TV_CHECK(diag_confirmed(&d, DIAG_DTC_P1A04));
     TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.9, 1e-6);
     TV_CHECK_EQ_INT(d.code[DIAG_DTC_P1A04].freeze.t_us, (uint64_t)(6u * DIAG_PARAM_DECIM) * 1000u);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A01));
-    sig_case(1, TV_R(0.9), TV_R(0.02), TV_R(1.1), TV_R(1.1), 1, &d);
+    sig_case(1, 0, TV_R(0.9), TV_R(0.02), TV_R(1.1), TV_R(1.1), 1, &d);
     TV_CHECK(diag_pending(&d, DIAG_DTC_P1A01));
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_confirmed(&d, DIAG_DTC_P1A04));
     /* no verdict: the class's bounds; the resistance in range; one level up only; no window */
-    sig_case(0, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 1, &d);
+    sig_case(0, 0, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 1, &d);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
-    sig_case(1, TV_R(0.99), TV_R(0.0), TV_R(1.1), TV_R(1.1), 1, &d);
+    sig_case(1, 0, TV_R(0.99), TV_R(0.0), TV_R(1.1), TV_R(1.1), 1, &d);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
-    sig_case(1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.0), 1, &d);
+    sig_case(1, 0, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.0), 1, &d);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
-    sig_case(1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 0, &d);
+    sig_case(1, 0, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.1), 0, &d);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
+    /* the winding's temperature known: the resistance low is no cold winding, so friction up
+     * alone suffices (a gain's excess torque taken up by the friction state alone) */
+    sig_case(1, 1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.0), 1, &d);
+    TV_CHECK(diag_confirmed(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
+    sig_case(1, 1, TV_R(0.9), TV_R(0.02), TV_R(1.1), TV_R(1.0), 1, &d);
+    TV_CHECK(diag_pending(&d, DIAG_DTC_P1A01) && !diag_pending(&d, DIAG_DTC_P1A04));
+    sig_case(1, 1, TV_R(0.9), TV_R(0.0), TV_R(1.1), TV_R(1.0), 0, &d); /* still a window needed */
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
     {
         /* a window begun before the resistance went low gives no back-EMF slope: 400 healthy
@@ -1866,6 +1874,24 @@ static void test_motor_constant_signature(void)
         }
         TV_CHECK_EQ_INT(first, (int)cfg.gain_hold_checks + 1);
         TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
+    }
+    {
+        /* the same with the winding's temperature known: a low resistance is then no cold winding
+         * (the current sensor or shorted turns), and P2119 stays held over 400 checks */
+        static diag_detect_t dd;
+        diag_detect_config_t cfg;
+        diag_snapshot_t snap;
+        int k;
+        diag_detect_config_default(&cfg);
+        diag_detect_config_identified(&cfg);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        diag_init(&d);
+        memset(&snap, 0, sizeof snap);
+        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 1, &snap);
+        for (k = 1; k <= 400 * (int)DIAG_PARAM_DECIM; ++k) {
+            diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.3), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
+            TV_CHECK(!diag_pending(&d, DIAG_DTC_P2119));
+        }
     }
 }
 

@@ -437,6 +437,7 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
         }
         dd->r_low = low;
         dd->r_high = dd->cfg.identified && ratio * dd->cfg.gain_r_max > TV_R(1.0) ? 1u : 0u;
+        dd->r_low_known = low && temp_known ? 1u : 0u;
     }
     high = temp_known ? dd->cfg.r_high_frac_known : dd->cfg.r_high_frac;
     if (!(ratio > high)) {
@@ -622,7 +623,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
             dd->m_low = dd->cfg.identified && preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ? 1u : 0u;
         }
         offset_sig = m_ok && !motor_or_jam(d) &&
-                     ((dd->r_high && dd->m_low) ||
+                     ((dd->r_high && dd->m_low && f_ok && friction_rel <= dd->cfg.friction_high_rel) ||
                       (dd->r_low && f_ok && preload_rel > dd->cfg.gain_mech_min && friction_rel < dd->cfg.gain_mech_min &&
                        friction_rel * dd->cfg.gain_mech_min > TV_R(1.0)));
         dd->offset_sig_n = offset_sig ? (uint16_t)(dd->offset_sig_n + (dd->offset_sig_n < 0xFFFFu ? 1u : 0u)) : 0u;
@@ -630,7 +631,8 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
             (void)diag_report(d, DIAG_DTC_P1A04, DIAG_FAIL, snap, dd->r_ratio);
         }
     }
-    if (dd->r_low && dd->kw_ok && friction_rel > dd->cfg.gain_mech_min && preload_rel > dd->cfg.gain_mech_min &&
+    if (dd->r_low && dd->kw_ok && friction_rel > dd->cfg.gain_mech_min &&
+        (preload_rel > dd->cfg.gain_mech_min || dd->r_low_known) &&
         TV_IS_FINITE(friction_sigma) && friction_sigma <= dd->cfg.friction_sigma_max && TV_IS_FINITE(preload_sigma) &&
         preload_sigma <= dd->cfg.preload_sigma_max && !motor_or_jam(d)) {
         /* MOTOR-CONSTANT SIGNATURE: the apparent resistance down and friction and preload up
@@ -662,7 +664,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         if (dd->r_low && dd->gain_wait < 0xFFFFu) {
             ++dd->gain_wait;
         }
-        if (dd->r_low && (preload_rel > dd->cfg.gain_mech_min || dd->gain_wait <= dd->cfg.gain_hold_checks)) {
+        if (dd->r_low && (preload_rel > dd->cfg.gain_mech_min || dd->gain_wait <= dd->cfg.gain_hold_checks || dd->r_low_known)) {
             /* the apparent resistance is down: raised friction may be the motor-constant
              * signature above, which decides first (no P2119 failure meanwhile) while the preload
              * is up too, or for gain_hold_checks checks; friction up alone after that (ice on a

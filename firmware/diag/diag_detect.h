@@ -166,19 +166,27 @@
  *     (when its velocity varied: gain_w_var_min) and diag_param_check() fails, at each of its
  *     checks with 1 + f and 1 + m both above gain_mech_min (their sigmas within the mechanics
  *     checks' bounds, no open winding or jam code), P1A04 when |kw| <= gain_kw_max, else P1A01
- *     (value: (R + dR) / R). Meanwhile the resistance check does not pass P1A01, and P2119 does
- *     not fail while the preload is up too or for gain_hold_checks checks (a gain error raises
- *     the friction before the preload); after that, friction up alone fails P2119 as before. A
- *     cold winding lowers R alone, ice raises friction alone: neither moves all three.
- *     The mirror image: the apparent resistance ABOVE 1 / gain_r_max with the adapted preload
- *     1 + m BELOW 1 / gain_mech_min (its sigma within preload_sigma_max; the friction free) is a
- *     current sensor that reads too little: a negative offset b (R reads i / (i + b) times its
- *     value on the holding current's side, and the torque per measured ampere is short by about
- *     n Kt b, which the preload takes up) or a gain below 1 (R reads 1 / g, friction and preload
- *     g). diag_param_check() fails P1A04 at each such check (value: (R + dR) / R), and while
- *     1 + m reads that low P2101 is not failed (no verdict): a raised resistance leaves the
- *     mechanics alone (measured: 1 + m 0.987-1.002 with R x1.25 and x1.5; 0.75-0.98 with an
- *     offset of -0.1 A). No shorted turns raise the resistance, so no back-EMF slope is needed.
+ *     (value: (R + dR) / R). With the winding's temperature known (diag_resistance_check()'s
+ *     temp_known) a low resistance is no cold winding, so friction up alone suffices (a gain's
+ *     excess torque may be taken up by the friction state alone, as in the 12 V sine). Meanwhile
+ *     the resistance check does not pass P1A01, and P2119 does not fail while the preload is up
+ *     too, for gain_hold_checks checks (a gain error raises the friction before the preload), or
+ *     at all while the temperature is known; after that, friction up alone fails P2119 as
+ *     before. A cold winding lowers R alone, ice raises friction alone: neither moves all three.
+ *   OFFSET SIGNATURE (P1A04; identified units): an offset b of the current sensor takes about
+ *     n Kt b out of (or adds it to) the torque per measured ampere whatever the motion, which the
+ *     adapted preload takes up while the friction (whose torque changes sign with the motion)
+ *     stays, and it makes R read i / (i + b) times its value on the side where the current holds
+ *     the plate; a raised resistance leaves the mechanics alone (the estimator's torque comes from
+ *     the measured current; measured: 1 + m 0.987-1.002 with R x1.25 and x1.5, 0.75-0.98 with an
+ *     offset of -0.1 A). So diag_param_check() fails P1A04 once, for isens_sig_checks checks in a
+ *     row, either the apparent resistance read above 1 / gain_r_max with 1 + m below
+ *     1 / gain_mech_min and 1 + f within its healthy range (friction_high_rel: a jam's drag, far
+ *     above, is not the sensor; a gain below 1 lowers both levels), or below gain_r_max with 1 + m
+ *     above gain_mech_min and 1 + f within 1 / gain_mech_min ... gain_mech_min (a gain above 1 and
+ *     shorted turns raise the friction with the preload: the motor-constant signature's case);
+ *     their sigmas within the mechanics checks' bounds, no open winding or jam code. While 1 + m
+ *     reads below 1 / gain_mech_min, P2101 is not failed (no verdict).
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -451,6 +459,7 @@ typedef struct {
                                 apparent resistance was below gain_r_max [A s/rad] */
     uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units) */
     uint8_t r_high;        /**< 1 while (R + dR) / R > 1 / gain_r_max (identified units) */
+    uint8_t r_low_known;   /**< 1 while r_low with the winding's temperature known (not a cold winding) */
     uint8_t m_low;         /**< 1 while the adapted preload 1 + m < 1 / gain_mech_min with its sigma within
                                 preload_sigma_max (identified units; set by diag_param_check()) */
     uint8_t kw_ok;         /**< 1 once a window's kw was taken since r_low was set */
