@@ -1854,43 +1854,30 @@ static void test_motor_constant_signature(void)
     {
         /* friction up alone (1 + f = 1.3 above the identified bound 1.15, the preload at 1) with
          * the apparent resistance low (a cold winding): P2119 is held for gain_hold_checks
-         * checks, then fails as before (the slow level's run of 95 checks is long past) */
+         * checks, then fails as before (the slow level's run of 95 checks is long past); with
+         * the winding's temperature known a low resistance is no cold winding (the current
+         * sensor or shorted turns), and P2119 stays held over the 400 checks */
         static diag_detect_t dd;
         diag_detect_config_t cfg;
         diag_snapshot_t snap;
-        int k;
-        int first = -1;
-        diag_detect_config_default(&cfg);
-        diag_detect_config_identified(&cfg);
-        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-        diag_init(&d);
-        memset(&snap, 0, sizeof snap);
-        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 0, &snap);
-        for (k = 1; k <= 400 * (int)DIAG_PARAM_DECIM && first < 0; ++k) {
-            diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.3), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
-            if (diag_pending(&d, DIAG_DTC_P2119)) {
-                first = k / (int)DIAG_PARAM_DECIM;
+        int known;
+        for (known = 0; known < 2; ++known) {
+            int k;
+            int first = -1;
+            diag_detect_config_default(&cfg);
+            diag_detect_config_identified(&cfg);
+            TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+            diag_init(&d);
+            memset(&snap, 0, sizeof snap);
+            diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), known, &snap);
+            for (k = 1; k <= 400 * (int)DIAG_PARAM_DECIM && first < 0; ++k) {
+                diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.3), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
+                if (diag_pending(&d, DIAG_DTC_P2119)) {
+                    first = k / (int)DIAG_PARAM_DECIM;
+                }
             }
-        }
-        TV_CHECK_EQ_INT(first, (int)cfg.gain_hold_checks + 1);
-        TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
-    }
-    {
-        /* the same with the winding's temperature known: a low resistance is then no cold winding
-         * (the current sensor or shorted turns), and P2119 stays held over 400 checks */
-        static diag_detect_t dd;
-        diag_detect_config_t cfg;
-        diag_snapshot_t snap;
-        int k;
-        diag_detect_config_default(&cfg);
-        diag_detect_config_identified(&cfg);
-        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-        diag_init(&d);
-        memset(&snap, 0, sizeof snap);
-        diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 1, &snap);
-        for (k = 1; k <= 400 * (int)DIAG_PARAM_DECIM; ++k) {
-            diag_param_check(&dd, &d, 1, TV_R(1.0), TV_R(1.3), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
-            TV_CHECK(!diag_pending(&d, DIAG_DTC_P2119));
+            TV_CHECK_EQ_INT(first, known ? -1 : (int)cfg.gain_hold_checks + 1);
+            TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P1A01));
         }
     }
 }
@@ -1959,61 +1946,58 @@ static void test_offset_signature(void)
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && !diag_pending(&d, DIAG_DTC_P2101));
 }
 
-/* The offset signature on the plant: the identified nominal unit (as test_current_gain_identified)
- * in closed-loop driving, from 1.0 s: a current offset of -0.1 A and +0.1 A and a gain of -10 %
- * confirm P1A04, never P2101; a resistance x2 confirms P2101, never P1A04 (its step dips the
- * adapted preload for a few checks). 12 s runs, seed 1. */
-static void test_current_offset_identified(void)
+/* One 12 s closed-loop driving run (seed 1) of the identified nominal unit (the nominal plant
+ * with the default filter, as in test_friction_plus_25_percent_identified, and
+ * diag_detect_config_identified()) with FAULT from 1.0 s. */
+static void identified_run(const char *fault, sim_result_t *r)
 {
     static plant_config_t pc;
     static app_config_t ac;
-    static const char *const fault[3] = {"current_offset:-0.1@1.0", "current_offset:0.1@1.0", "current_gain:-10@1.0"};
-    sim_result_t r;
-    int k;
-    double worst = 0.0;
     plant_config_default(&pc);
     app_config_default(&ac);
     diag_detect_config_identified(&ac.diag);
-    for (k = 0; k < 3; ++k) {
-        sim_fault_run(&pc, &ac, SIM_SCN_DRIVE, 1u, fault[k], 12.0, &r);
+    sim_fault_run(&pc, &ac, SIM_SCN_DRIVE, 1u, fault, 12.0, r);
+}
+
+/* identified_run() of each of the n faults: each confirms P1A04 within 10 s of the onset and
+ * never NEVER; then OTHER confirms OTHER_CODE and never P1A04. WHAT names them in the printout. */
+static void identified_case(const char *const *fault, int n, diag_dtc_t never, const char *other, diag_dtc_t other_code,
+                            const char *what)
+{
+    sim_result_t r;
+    int k;
+    double worst = 0.0;
+    for (k = 0; k < n; ++k) {
+        identified_run(fault[k], &r);
         worst = fmax(worst, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) ? r.dtc_confirm_t_s[DIAG_DTC_P1A04] - 1.0 : 1e9);
-        TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+        TV_CHECK(!isfinite(r.dtc_confirm_t_s[never]));
     }
-    sim_fault_run(&pc, &ac, SIM_SCN_DRIVE, 1u, "winding_resistance_high:2@1.0", 12.0, &r);
-    TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+    identified_run(other, &r);
+    TV_CHECK(isfinite(r.dtc_confirm_t_s[other_code]));
     TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]));
-    printf("  identified unit: current offset -0.1 / +0.1 A, gain -10 %% P1A04 at most %.2f s after the onset; "
-           "resistance x2 P2101 at %.2f s\n", worst, r.dtc_confirm_t_s[DIAG_DTC_P2101] - 1.0);
+    printf("  identified unit: %s: P1A04 at most %.2f s after the onset; %s: %s at %.2f s\n", what, worst, other,
+           diag_dtc_info(other_code)->code, r.dtc_confirm_t_s[other_code] - 1.0);
     TV_CHECK_LE(worst, 10.0);
 }
 
-/* A current-sensor gain on an identified unit (the nominal plant with the default filter, as in
- * test_friction_plus_25_percent_identified, diag_detect_config_identified()), from 1.0 s in
- * closed-loop driving: +5 % and +20 % confirm P1A04 (the motor-constant signature; before it,
- * 20 % confirmed P2119, friction, on every identified population unit: README), never P2119;
- * 35 % of the turns shorted confirms P1A01 and never P1A04. 12 s runs, seed 1. */
+/* The offset signature on the plant, identified_run(): a current offset of -0.1 A and +0.1 A and
+ * a gain of -10 % confirm P1A04, never P2101; a resistance x2 confirms P2101, never P1A04 (its
+ * step dips the adapted preload for a few checks). */
+static void test_current_offset_identified(void)
+{
+    static const char *const fault[3] = {"current_offset:-0.1@1.0", "current_offset:0.1@1.0", "current_gain:-10@1.0"};
+    identified_case(fault, 3, DIAG_DTC_P2101, "winding_resistance_high:2@1.0", DIAG_DTC_P2101,
+                    "current offset -0.1 / +0.1 A, gain -10 %");
+}
+
+/* A current-sensor gain on an identified unit, identified_run(): +5 % and +20 % confirm P1A04
+ * (the motor-constant signature; before it, 20 % confirmed P2119, friction, on every identified
+ * population unit: README), never P2119; 35 % of the turns shorted confirms P1A01 and never
+ * P1A04. */
 static void test_current_gain_identified(void)
 {
-    static plant_config_t pc;
-    static app_config_t ac;
     static const char *const gain[2] = {"current_gain:5@1.0", "current_gain:20@1.0"};
-    sim_result_t r;
-    int k;
-    double worst = 0.0;
-    plant_config_default(&pc);
-    app_config_default(&ac);
-    diag_detect_config_identified(&ac.diag);
-    for (k = 0; k < 2; ++k) {
-        sim_fault_run(&pc, &ac, SIM_SCN_DRIVE, 1u, gain[k], 12.0, &r);
-        worst = fmax(worst, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) ? r.dtc_confirm_t_s[DIAG_DTC_P1A04] - 1.0 : 1e9);
-        TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2119]));
-    }
-    sim_fault_run(&pc, &ac, SIM_SCN_DRIVE, 1u, "winding_short:0.35@1.0", 12.0, &r);
-    TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A01]));
-    TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]));
-    printf("  identified unit: current gain +5 %% / +20 %% P1A04 at most %.2f s after the onset; 35 %% shorted turns P1A01 "
-           "at %.2f s\n", worst, r.dtc_confirm_t_s[DIAG_DTC_P1A01] - 1.0);
-    TV_CHECK_LE(worst, 10.0);
+    identified_case(gain, 2, DIAG_DTC_P2119, "winding_short:0.35@1.0", DIAG_DTC_P1A01, "current gain +5 % / +20 %");
 }
 
 /* No code confirmed on healthy units: 12 evaluation units per spread (every third of class b),
