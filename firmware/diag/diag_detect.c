@@ -70,6 +70,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->gain_w_var_min = TV_R(0.09);
     cfg->gain_hold_checks = 300u;
     cfg->isens_sig_checks = 30u;
+    cfg->gain_r_known_max = TV_R(0.96);
     cfg->identified = 0u;
 }
 
@@ -107,7 +108,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->preload_fast_low, cfg->friction_fast_high, cfg->friction_fast_preload_min,
                                  cfg->friction_fast_level_min, cfg->preload_fast_friction_max, cfg->away_friction_min, cfg->away_w_max_rad_s,
                                  cfg->probe_trigger, cfg->probe_min_weight, cfg->probe_friction_frac, cfg->probe_move_rad,
-                                 cfg->gain_r_max, cfg->gain_mech_min, cfg->gain_kw_max, cfg->gain_w_var_min};
+                                 cfg->gain_r_max, cfg->gain_mech_min, cfg->gain_kw_max, cfg->gain_w_var_min,
+                                 cfg->gain_r_known_max};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -123,7 +125,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) ||
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
         !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u ||
-        !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0)) ||
+        !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_r_known_max < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0)) ||
         cfg->gain_hold_checks == 0u || cfg->isens_sig_checks == 0u || !(cfg->open_emf_allow_V >= TV_R(0.0)) ||
         !(cfg->open_emf_allow_V < cfg->open_u_min_V)) {
         return TV_ERR_CONFIG;
@@ -436,13 +438,15 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
             dd->gain_wait = 0u;
         }
         dd->r_low = low;
-        dd->r_high = dd->cfg.identified && ratio * dd->cfg.gain_r_max > TV_R(1.0) ? 1u : 0u;
-        dd->r_low_known = low && temp_known ? 1u : 0u;
+        /* R high or well low means something only while the winding's temperature is known
+         * (else a warm or a cold winding) */
+        dd->r_high = dd->cfg.identified && temp_known && ratio * dd->cfg.gain_r_max > TV_R(1.0) ? 1u : 0u;
+        dd->r_low_known = dd->cfg.identified && temp_known && ratio < dd->cfg.gain_r_known_max ? 1u : 0u;
     }
     high = temp_known ? dd->cfg.r_high_frac_known : dd->cfg.r_high_frac;
     if (!(ratio > high)) {
         (void)diag_report(d, DIAG_DTC_P2101, DIAG_PASS, snap, ratio);
-    } else if (!dd->m_low) {
+    } else if (!(temp_known && dd->m_low)) {
         /* (with the preload down as well, the current sensor reads too little: P1A04 in
          * diag_param_check(), no verdict here) */
         (void)diag_report(d, DIAG_DTC_P2101, DIAG_FAIL, snap, ratio);
@@ -622,6 +626,8 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         if (m_ok) {
             dd->m_low = dd->cfg.identified && preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ? 1u : 0u;
         }
+        /* (the preload low with the friction in its healthy range: a jam's drag, far above, is no
+         * sensor) */
         offset_sig = m_ok && !motor_or_jam(d) &&
                      ((dd->r_high && dd->m_low && f_ok && friction_rel <= dd->cfg.friction_high_rel) ||
                       (dd->r_low && f_ok && preload_rel > dd->cfg.gain_mech_min && friction_rel < dd->cfg.gain_mech_min &&

@@ -167,11 +167,12 @@
  *     checks with 1 + f and 1 + m both above gain_mech_min (their sigmas within the mechanics
  *     checks' bounds, no open winding or jam code), P1A04 when |kw| <= gain_kw_max, else P1A01
  *     (value: (R + dR) / R). With the winding's temperature known (diag_resistance_check()'s
- *     temp_known) a low resistance is no cold winding, so friction up alone suffices (a gain's
- *     excess torque may be taken up by the friction state alone, as in the 12 V sine). Meanwhile
- *     the resistance check does not pass P1A01, and P2119 does not fail while the preload is up
- *     too, for gain_hold_checks checks (a gain error raises the friction before the preload), or
- *     at all while the temperature is known; after that, friction up alone fails P2119 as
+ *     temp_known) a resistance below gain_r_known_max is no cold winding, so friction up alone
+ *     suffices (a gain's excess torque may be taken up by the friction state alone, as in the
+ *     12 V sine). Meanwhile the resistance check does not pass P1A01, and P2119 does not fail
+ *     while the preload is up too, for gain_hold_checks checks (a gain error raises the friction
+ *     before the preload), or at all while the temperature is known and R below
+ *     gain_r_known_max; after that, friction up alone fails P2119 as
  *     before. A cold winding lowers R alone, ice raises friction alone: neither moves all three.
  *   OFFSET SIGNATURE (P1A04; identified units): an offset b of the current sensor takes about
  *     n Kt b out of (or adds it to) the torque per measured ampere whatever the motion, which the
@@ -180,13 +181,15 @@
  *     the plate; a raised resistance leaves the mechanics alone (the estimator's torque comes from
  *     the measured current; measured: 1 + m 0.987-1.002 with R x1.25 and x1.5, 0.75-0.98 with an
  *     offset of -0.1 A). So diag_param_check() fails P1A04 once, for isens_sig_checks checks in a
- *     row, either the apparent resistance read above 1 / gain_r_max with 1 + m below
+ *     row, either the apparent resistance read above 1 / gain_r_max with the winding's temperature
+ *     known (else it may be a warm winding, and a weak spring lowers 1 + m) and 1 + m below
  *     1 / gain_mech_min and 1 + f within its healthy range (friction_high_rel: a jam's drag, far
  *     above, is not the sensor; a gain below 1 lowers both levels), or below gain_r_max with 1 + m
  *     above gain_mech_min and 1 + f within 1 / gain_mech_min ... gain_mech_min (a gain above 1 and
  *     shorted turns raise the friction with the preload: the motor-constant signature's case);
  *     their sigmas within the mechanics checks' bounds, no open winding or jam code. While 1 + m
- *     reads below 1 / gain_mech_min, P2101 is not failed (no verdict).
+ *     reads below 1 / gain_mech_min with the temperature known, P2101 is not failed (no
+ *     verdict).
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -385,6 +388,11 @@ typedef struct {
                                        mechanics checks [checks], > 0; default 300 (3 s of motion: a gain
                                        error raises the friction before the preload; friction alone on a
                                        cold winding, whose R reads low, is then judged as before) */
+    tv_real_t gain_r_known_max;   /**< with the winding's temperature known, the apparent resistance below this
+                                       lets the motor-constant signature take friction up alone and holds
+                                       P2119 [-], (0, 1); default 0.96 (a gain of 5 % reads 0.945-0.964, 10 %
+                                       0.91; a temperature reading up to 10 K too high leaves a friction
+                                       fault to P2119) */
     uint16_t isens_sig_checks;    /**< OFFSET SIGNATURE (identified units): P1A04 fails once the apparent
                                        resistance and the preload have read off together, the friction as
                                        it was, for this many mechanics checks in a row [checks], > 0;
@@ -458,8 +466,8 @@ typedef struct {
     tv_real_t isens_kw;    /**< the back-EMF slope kw of the last in-service window judged while the
                                 apparent resistance was below gain_r_max [A s/rad] */
     uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units) */
-    uint8_t r_high;        /**< 1 while (R + dR) / R > 1 / gain_r_max (identified units) */
-    uint8_t r_low_known;   /**< 1 while r_low with the winding's temperature known (not a cold winding) */
+    uint8_t r_high;        /**< 1 while (R + dR) / R > 1 / gain_r_max with the temperature known (identified) */
+    uint8_t r_low_known;   /**< 1 while (R + dR) / R < gain_r_known_max with the temperature known (identified) */
     uint8_t m_low;         /**< 1 while the adapted preload 1 + m < 1 / gain_mech_min with its sigma within
                                 preload_sigma_max (identified units; set by diag_param_check()) */
     uint8_t kw_ok;         /**< 1 once a window's kw was taken since r_low was set */
