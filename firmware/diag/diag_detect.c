@@ -612,6 +612,8 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         !TV_IS_FINITE(friction_rel) || !TV_IS_FINITE(preload_rel)) {
         return;
     }
+    const int m_ok = TV_IS_FINITE(preload_sigma) && preload_sigma <= dd->cfg.preload_sigma_max;
+    const int f_ok = TV_IS_FINITE(friction_sigma) && friction_sigma <= dd->cfg.friction_sigma_max;
     {
         /* OFFSET SIGNATURE (identified units): the apparent resistance and the preload off
          * together with the friction as it was, i.e. a constant torque per measured ampere short
@@ -620,8 +622,6 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
          * shorted turns scale the friction with the preload (the motor-constant signature below).
          * Held for isens_sig_checks checks in a row: a resistance step dips the preload for a
          * few checks while the estimator catches up. */
-        const int m_ok = TV_IS_FINITE(preload_sigma) && preload_sigma <= dd->cfg.preload_sigma_max;
-        const int f_ok = TV_IS_FINITE(friction_sigma) && friction_sigma <= dd->cfg.friction_sigma_max;
         int offset_sig;
         if (m_ok) {
             dd->m_low = dd->cfg.identified && preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ? 1u : 0u;
@@ -638,9 +638,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         }
     }
     if (dd->r_low && dd->kw_ok && friction_rel > dd->cfg.gain_mech_min &&
-        (preload_rel > dd->cfg.gain_mech_min || dd->r_low_known) &&
-        TV_IS_FINITE(friction_sigma) && friction_sigma <= dd->cfg.friction_sigma_max && TV_IS_FINITE(preload_sigma) &&
-        preload_sigma <= dd->cfg.preload_sigma_max && !motor_or_jam(d)) {
+        (preload_rel > dd->cfg.gain_mech_min || dd->r_low_known) && f_ok && m_ok && !motor_or_jam(d)) {
         /* MOTOR-CONSTANT SIGNATURE: the apparent resistance down and friction and preload up
          * together, i.e. the torque per measured ampere too small: a current-sensor gain (the
          * back-EMF intact) or shorted turns (the back-EMF constant down with them) */
@@ -651,9 +649,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         return;
     }
     /* the signature (and its away reading) judged: fed lately, the adapted levels settled */
-    judged = dd->tq_age <= DIAG_TORQUE_FRESH && TV_IS_FINITE(friction_sigma) &&
-             friction_sigma <= dd->cfg.friction_sigma_max && TV_IS_FINITE(preload_sigma) &&
-             preload_sigma <= dd->cfg.preload_sigma_max;
+    judged = dd->tq_age <= DIAG_TORQUE_FRESH && f_ok && m_ok;
     fast = judged && torque_signature(dd, preload_rel, friction_rel, &pf, &ff);
     if (fast) {
         dd->preload_fast = pf;
@@ -673,7 +669,8 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         if (dd->r_low && (preload_rel > dd->cfg.gain_mech_min || dd->gain_wait <= dd->cfg.gain_hold_checks || dd->r_low_known)) {
             /* the apparent resistance is down: raised friction may be the motor-constant
              * signature above, which decides first (no P2119 failure meanwhile) while the preload
-             * is up too, or for gain_hold_checks checks; friction up alone after that (ice on a
+             * is up too, while the temperature is known and R below gain_r_known_max (no cold
+             * winding), or for gain_hold_checks checks; friction up alone after that (ice on a
              * cold winding) fails P2119 as before */
         } else if (fast && ff > dd->cfg.friction_fast_high && pf >= dd->cfg.friction_fast_preload_min &&
             friction_rel >= dd->cfg.friction_fast_level_min) {
