@@ -1885,6 +1885,57 @@ static void test_motor_constant_signature(void)
     }
 }
 
+/* Shorted turns at the resistance check's rate (identified units, the winding's temperature
+ * known): diag_resistance_check() with the apparent resistance RATIO, then one in-service window
+ * whose innovation is KW times the velocity (sig_case()'s), then 250 calls of
+ * diag_resistance_check() at RATIO. Returns the call at which P1A01 confirmed (0: never). */
+static int short_case(int identified, int temp_known, tv_real_t ratio, tv_real_t kw, diag_t *d)
+{
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int k;
+    diag_detect_config_default(&cfg);
+    if (identified) {
+        diag_detect_config_identified(&cfg);
+    }
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_init(d);
+    memset(&snap, 0, sizeof snap);
+    diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), temp_known, &snap);
+    for (k = 0; k < (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE; ++k) {
+        const tv_real_t w = isens_w(k);
+        const tv_real_t y = kw * w;
+        diag_current_sensor_check(&dd, d, 1, 1, 1, isens_i(k) + y, y, w, &snap);
+    }
+    TV_CHECK(!diag_pending(d, DIAG_DTC_P1A01));
+    for (k = 1; k <= 250; ++k) {
+        diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), temp_known, &snap);
+        TV_CHECK(!diag_pending(d, DIAG_DTC_P2101) && !diag_pending(d, DIAG_DTC_P1A04));
+        if (diag_confirmed(d, DIAG_DTC_P1A01)) {
+            return k;
+        }
+    }
+    return 0;
+}
+
+/* With the temperature known an identified unit's resistance below r_low_frac_known (0.85) with a
+ * back-EMF deficit (kw 0.02 A s/rad) confirms P1A01 at the resistance check's 200th failing
+ * sample (its confirmation count), without waiting for the motor-constant signature's 200 checks
+ * of motion; not with the back-EMF intact (kw 0: a current-sensor gain, P1A04's), not above the
+ * bound (0.86), not without the temperature (a cold winding) nor on the class's bounds (0.65). */
+static void test_shorted_turns_known_temperature(void)
+{
+    static diag_t d;
+    TV_CHECK_EQ_INT(short_case(1, 1, TV_R(0.8), TV_R(0.02), &d), 200);
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P1A01].freeze.value, 0.8, 1e-6);
+    TV_CHECK_EQ_INT(short_case(1, 1, TV_R(0.8), TV_R(0.0), &d), 0);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A01));
+    TV_CHECK_EQ_INT(short_case(1, 1, TV_R(0.86), TV_R(0.02), &d), 0);
+    TV_CHECK_EQ_INT(short_case(1, 0, TV_R(0.8), TV_R(0.02), &d), 0);
+    TV_CHECK_EQ_INT(short_case(0, 1, TV_R(0.8), TV_R(0.02), &d), 0);
+}
+
 /* The offset signature (diag_detect.h, identified units) on scripted estimates: every step
  * diag_param_check() then diag_resistance_check() (temperature known: P2101's bound 1.15) with
  * the apparent resistance ratio, friction f and preload m held, for `checks` mechanics checks.
@@ -2010,6 +2061,18 @@ static void test_current_offset_identified(void)
                     "current offset -0.1 / +0.1 A, gain -10 %");
 }
 
+/* 20 % of the turns shorted on the identified unit, identified_run(): P1A01 confirmed (by the
+ * resistance check's known-temperature bound; before it, the motor-constant signature's 200 checks
+ * of motion did not come within the 11 s), never P1A04 or P2119. */
+static void test_winding_short_20_identified(void)
+{
+    sim_result_t r;
+    identified_run("winding_short:0.2@1.0", &r);
+    printf("  identified unit: winding_short:0.2: P1A01 at %.2f s after the onset\n", r.dtc_confirm_t_s[DIAG_DTC_P1A01] - 1.0);
+    TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A01]));
+    TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) && !isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2119]));
+}
+
 /* A current-sensor gain on an identified unit, identified_run(): +5 % and +20 % confirm P1A04
  * (the motor-constant signature; before it, 20 % confirmed P2119, friction, on every identified
  * population unit: README), never P2119; 35 % of the turns shorted confirms P1A01 and never
@@ -2089,6 +2152,8 @@ int main(void)
     TV_TEST_RUN(test_friction_plus_25_percent_identified);
     TV_TEST_RUN(test_motor_constant_signature);
     TV_TEST_RUN(test_current_gain_identified);
+    TV_TEST_RUN(test_shorted_turns_known_temperature);
+    TV_TEST_RUN(test_winding_short_20_identified);
     TV_TEST_RUN(test_offset_signature);
     TV_TEST_RUN(test_current_offset_identified);
     TV_TEST_RUN(test_no_code_confirmed_on_healthy_units);

@@ -30,6 +30,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->r_high_frac = TV_R(1.35);
     cfg->r_high_frac_known = TV_R(1.35);
     cfg->r_low_frac = TV_R(0.65);
+    cfg->r_low_frac_known = TV_R(0.65);
     cfg->r_sigma_max_frac = TV_R(0.05);
     cfg->r_excite_A = TV_R(0.4);
     cfg->friction_high_rel = TV_R(1.7);
@@ -85,6 +86,7 @@ void diag_detect_config_identified(diag_detect_config_t *cfg)
     cfg->preload_fast_friction_max = TV_R(1.3);
     cfg->friction_high_rel = TV_R(1.15);
     cfg->r_high_frac_known = TV_R(1.15);
+    cfg->r_low_frac_known = TV_R(0.85);
     cfg->identified = 1u;
 }
 
@@ -97,7 +99,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         const tv_real_t all[] = {cfg->tps_disagree_rad, cfg->tps_vote_frac, cfg->jam_error_rad, cfg->jam_u_min_V,
                                  cfg->jam_break_factor, cfg->jam_still_rad, cfg->jam_limp_margin_rad,
                                  cfg->open_u_min_V,     cfg->open_i_max_A,     cfg->open_di_max_A,
-                                 cfg->r_high_frac,      cfg->r_high_frac_known, cfg->r_low_frac,    cfg->r_sigma_max_frac,
+                                 cfg->r_high_frac,      cfg->r_high_frac_known, cfg->r_low_frac,    cfg->r_low_frac_known, cfg->r_sigma_max_frac,
                                  cfg->r_excite_A,       cfg->friction_high_rel, cfg->friction_sigma_max,
                                  cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
                                  cfg->bridge_lost_frac, cfg->supply_low_V,      cfg->supply_hyst_V,
@@ -121,6 +123,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         }
     }
     if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_high_frac_known > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0)) ||
+        !(cfg->r_low_frac_known < TV_R(1.0)) ||
         !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0)) ||
         !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) ||
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
@@ -452,6 +455,12 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
         (void)diag_report(d, DIAG_DTC_P2101, DIAG_FAIL, snap, ratio);
     }
     if (ratio < dd->cfg.r_low_frac) {
+        (void)diag_report(d, DIAG_DTC_P1A01, DIAG_FAIL, snap, ratio);
+    } else if (temp_known && ratio < dd->cfg.r_low_frac_known && dd->kw_ok && TV_FABS(dd->isens_kw) > dd->cfg.gain_kw_max) {
+        /* with the temperature known (no cold winding) and the back-EMF slope of a window judged
+         * since R read low showing the back-EMF constant down as well: shorted turns, at the
+         * resistance check's rate (a current-sensor gain also reads R low, with the back-EMF
+         * intact: the motor-constant signature's P1A04) */
         (void)diag_report(d, DIAG_DTC_P1A01, DIAG_FAIL, snap, ratio);
     } else if (!dd->r_low) {
         /* while the apparent resistance is below gain_r_max on an identified unit, the

@@ -41,7 +41,9 @@
  *     P2101, below r_low_frac * R fails P1A01, in between passes both. R is the model's nominal
  *     resistance at the winding's temperature when the application knows it (the model's R is
  *     at 20 degC: app_set_winding_temp()), else the model's R as it is; with the temperature
- *     known, r_high_frac_known takes the place of r_high_frac (tighter on an identified unit).
+ *     known, r_high_frac_known takes the place of r_high_frac (tighter on an identified unit), and
+ *     below r_low_frac_known * R P1A01 fails too when the motor-constant signature's back-EMF slope
+ *     says the back-EMF constant dropped with the resistance (shorted turns, not a sensor gain).
  *   ADAPTED MECHANICS (P2119 friction above, P1A02 spring preload below its range), the
  *     estimator's friction level 1 + f and preload 1 + m against their healthy ranges, checked
  *     every DIAG_PARAM_DECIM steps (the estimates move over seconds: a 1 kHz check would repeat
@@ -274,6 +276,15 @@ typedef struct {
                                       is a fault; without the temperature a warm winding reads +27 % at
                                       90 degC and the wide bound stays) */
     tv_real_t r_low_frac;       /**< R + dR below this times R fails P1A01 [-], (0, 1); default 0.65 */
+    tv_real_t r_low_frac_known; /**< with the winding's temperature known, R + dR below this times R fails
+                                     P1A01 too once a window judged since R read below gain_r_max gives a
+                                     back-EMF slope |kw| above gain_kw_max (the back-EMF constant down
+                                     with the resistance: shorted turns; a current-sensor gain reads R
+                                     low with the back-EMF intact) [-], (0, 1); default 0.65 as
+                                     r_low_frac; 0.85 on an identified unit (the mirror of
+                                     r_high_frac_known's 1.15: 20 % of the turns shorted read 0.70-0.80
+                                     in closed-loop driving, where the motor-constant signature's 200
+                                     checks of motion did not come within 6 s) */
     tv_real_t r_sigma_max_frac; /**< the check runs while sigma(dR) <= this times R [-], > 0; default 0.05 */
     tv_real_t r_excite_A;       /**< ... and the measured |current| is at least this [A], > 0; default 0.4 */
     tv_real_t friction_high_rel;  /**< friction level 1 + f above this fails P2119 [-], > 1; default 1.7 (the
