@@ -806,8 +806,8 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
         return;
     }
     if (dd->isens_off >= DIAG_ISENS_SETTLE) {
-        /* zero check: the bridge is off, the current must read 0 */
-        dd->isens_n = 0u;
+        /* zero check: the bridge is off, the current must read 0 (the in-service window waits:
+         * it goes on when the bridge drives again) */
         dd->isens_zsum += current_A;
         if (++dd->isens_zn >= DIAG_ISENS_ZERO_N) {
             const tv_real_t mean = dd->isens_zsum / (tv_real_t)DIAG_ISENS_ZERO_N;
@@ -818,7 +818,10 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
         }
         return;
     }
-    if (!innov_ok || dd->isens_on < DIAG_ISENS_SETTLE || !TV_IS_FINITE(innov_A) || !TV_IS_FINITE(w_rad_s)) {
+    if (dd->isens_on < DIAG_ISENS_SETTLE) {
+        return; /* the current settling after the bridge turned on: not counted, the window goes on */
+    }
+    if (!innov_ok || !TV_IS_FINITE(innov_A) || !TV_IS_FINITE(w_rad_s)) {
         dd->isens_n = 0u;
         return;
     }
