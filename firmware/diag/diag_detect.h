@@ -152,8 +152,9 @@
  *       window's intercept above isens_bias_max_A in magnitude fails, else passes (value: the
  *       intercept [A]); a window whose intercept is ill-determined (variance inflation
  *       1 + m' C^-1 m above isens_vif_max, m the regressors' means and C their covariance: one
- *       current sign, one speed) is not judged. A sample that does not qualify (bridge off, not
- *       settled, no correction, implausible) restarts the window.
+ *       current sign, one speed) is not judged. A sample with no correction or implausible
+ *       restarts the window; while the bridge is off or its current settles the window waits and
+ *       goes on when it drives again (limp-home's 0.6 s drives seldom fill one between two offs).
  *     A current-gain error is a scaled R in the voltage equation and a scaled Kt in the mechanics,
  *     both inside the population's spread: it is judged on identified units only, by the
  *     MOTOR-CONSTANT SIGNATURE below.
