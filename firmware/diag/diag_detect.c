@@ -454,13 +454,13 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
          * diag_param_check(), no verdict here) */
         (void)diag_report(d, DIAG_DTC_P2101, DIAG_FAIL, snap, ratio);
     }
-    if (ratio < dd->cfg.r_low_frac) {
-        (void)diag_report(d, DIAG_DTC_P1A01, DIAG_FAIL, snap, ratio);
-    } else if (temp_known && ratio < dd->cfg.r_low_frac_known && dd->kw_ok && TV_FABS(dd->isens_kw) > dd->cfg.gain_kw_max) {
-        /* with the temperature known (no cold winding) and the back-EMF slope of a window judged
-         * since R read low showing the back-EMF constant down as well: shorted turns, at the
-         * resistance check's rate (a current-sensor gain also reads R low, with the back-EMF
-         * intact: the motor-constant signature's P1A04) */
+    /* below the class's bound; or, with the temperature known (no cold winding), below the
+     * identified bound with the back-EMF slope of a window judged since R read low showing the
+     * back-EMF constant down as well: shorted turns, at the resistance check's rate (a
+     * current-sensor gain also reads R low, with the back-EMF intact: the motor-constant
+     * signature's P1A04) */
+    if (ratio < dd->cfg.r_low_frac ||
+        (temp_known && ratio < dd->cfg.r_low_frac_known && dd->kw_ok && TV_FABS(dd->isens_kw) > dd->cfg.gain_kw_max)) {
         (void)diag_report(d, DIAG_DTC_P1A01, DIAG_FAIL, snap, ratio);
     } else if (!dd->r_low) {
         /* while the apparent resistance is below gain_r_max on an identified unit, the
