@@ -1777,26 +1777,35 @@ static void test_friction_plus_25_percent_identified(void)
  * down: shorted turns) P1A01 fails instead. Nothing without the identified bounds, with the
  * resistance in range, with only one of friction and preload up, or before a window was judged;
  * friction up alone with the resistance low fails P2119 after gain_hold_checks checks. */
-static void sig_case(int identified, int temp_known, tv_real_t ratio, tv_real_t kw, tv_real_t f, tv_real_t m, int windows, diag_t *d)
+/* The detectors set up (identified bounds or the class's) with one resistance check at RATIO of
+ * the model's 4.3 ohm, then WINDOWS in-service windows whose innovation is KW times the velocity. */
+static void sig_setup(diag_detect_t *dd, int identified, int temp_known, tv_real_t ratio, tv_real_t kw, int windows, diag_t *d,
+                      diag_snapshot_t *snap)
 {
-    static diag_detect_t dd;
     diag_detect_config_t cfg;
-    diag_snapshot_t snap;
     int k;
     diag_detect_config_default(&cfg);
     if (identified) {
         diag_detect_config_identified(&cfg);
     }
-    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    TV_CHECK_EQ_INT(diag_detect_init(dd, &cfg), TV_OK);
     diag_init(d);
-    memset(&snap, 0, sizeof snap);
-    diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), temp_known, &snap);
+    memset(snap, 0, sizeof *snap);
+    diag_resistance_check(dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), temp_known, snap);
     for (k = 0; k < windows * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE; ++k) {
         const tv_real_t i = isens_i(k);
         const tv_real_t w = isens_w(k);
         const tv_real_t y = kw * w;
-        diag_current_sensor_check(&dd, d, 1, 1, 1, i + y, y, w, &snap);
+        diag_current_sensor_check(dd, d, 1, 1, 1, i + y, y, w, snap);
     }
+}
+
+static void sig_case(int identified, int temp_known, tv_real_t ratio, tv_real_t kw, tv_real_t f, tv_real_t m, int windows, diag_t *d)
+{
+    static diag_detect_t dd;
+    diag_snapshot_t snap;
+    int k;
+    sig_setup(&dd, identified, temp_known, ratio, kw, windows, d, &snap);
     for (k = 1; k <= 6 * (int)DIAG_PARAM_DECIM; ++k) {
         snap.t_us = (uint64_t)k * 1000u;
         diag_param_check(&dd, d, 1, TV_R(1.0), f, TV_R(0.02), m, TV_R(0.01), &snap);
@@ -1911,22 +1920,9 @@ static void test_motor_constant_signature(void)
 static int short_case(int identified, int temp_known, tv_real_t ratio, tv_real_t kw, diag_t *d)
 {
     static diag_detect_t dd;
-    diag_detect_config_t cfg;
     diag_snapshot_t snap;
     int k;
-    diag_detect_config_default(&cfg);
-    if (identified) {
-        diag_detect_config_identified(&cfg);
-    }
-    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-    diag_init(d);
-    memset(&snap, 0, sizeof snap);
-    diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), temp_known, &snap);
-    for (k = 0; k < (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE; ++k) {
-        const tv_real_t w = isens_w(k);
-        const tv_real_t y = kw * w;
-        diag_current_sensor_check(&dd, d, 1, 1, 1, isens_i(k) + y, y, w, &snap);
-    }
+    sig_setup(&dd, identified, temp_known, ratio, kw, 1, d, &snap);
     TV_CHECK(!diag_pending(d, DIAG_DTC_P1A01));
     for (k = 1; k <= 250; ++k) {
         diag_resistance_check(&dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), temp_known, &snap);
