@@ -449,9 +449,9 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
     high = temp_known ? dd->cfg.r_high_frac_known : dd->cfg.r_high_frac;
     if (!(ratio > high)) {
         (void)diag_report(d, DIAG_DTC_P2101, DIAG_PASS, snap, ratio);
-    } else if (!(temp_known && dd->m_low)) {
-        /* (with the preload down as well, the current sensor reads too little: P1A04 in
-         * diag_param_check(), no verdict here) */
+    } else if (!(temp_known && dd->mech_low)) {
+        /* (with the preload or the friction down as well, the current sensor reads too little:
+         * P1A04 in diag_param_check(), no verdict here) */
         (void)diag_report(d, DIAG_DTC_P2101, DIAG_FAIL, snap, ratio);
     }
     /* below the class's bound; or, with the temperature known (no cold winding), below the
@@ -632,13 +632,16 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
          * Held for isens_sig_checks checks in a row: a resistance step dips the preload for a
          * few checks while the estimator catches up. */
         int offset_sig;
-        if (m_ok) {
-            dd->m_low = dd->cfg.identified && preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ? 1u : 0u;
+        if (m_ok && f_ok) {
+            /* either level low: in the 12 V sine the friction state alone takes up a gain below 1
+             * (measured: gain -5 %, identified unit 1000, 1 + f 0.876 with 1 + m 0.996) */
+            dd->mech_low = dd->cfg.identified && (preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ||
+                                                  friction_rel * dd->cfg.gain_mech_min < TV_R(1.0)) ? 1u : 0u;
         }
-        /* (the preload low with the friction in its healthy range: a jam's drag, far above, is no
+        /* (a level low with the friction in its healthy range: a jam's drag, far above, is no
          * sensor) */
         offset_sig = m_ok && !motor_or_jam(d) &&
-                     ((dd->r_high && dd->m_low && f_ok && friction_rel <= dd->cfg.friction_high_rel) ||
+                     ((dd->r_high && dd->mech_low && f_ok && friction_rel <= dd->cfg.friction_high_rel) ||
                       (dd->r_low && f_ok && preload_rel > dd->cfg.gain_mech_min && friction_rel < dd->cfg.gain_mech_min &&
                        friction_rel * dd->cfg.gain_mech_min > TV_R(1.0)));
         dd->offset_sig_n = offset_sig ? (uint16_t)(dd->offset_sig_n + (dd->offset_sig_n < 0xFFFFu ? 1u : 0u)) : 0u;

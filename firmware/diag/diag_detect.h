@@ -185,13 +185,14 @@
  *     the measured current; measured: 1 + m 0.987-1.002 with R x1.25 and x1.5, 0.75-0.98 with an
  *     offset of -0.1 A). So diag_param_check() fails P1A04 once, for isens_sig_checks checks in a
  *     row, either the apparent resistance read above 1 / gain_r_max with the winding's temperature
- *     known (else it may be a warm winding, and a weak spring lowers 1 + m) and 1 + m below
- *     1 / gain_mech_min and 1 + f within its healthy range (friction_high_rel: a jam's drag, far
- *     above, is not the sensor; a gain below 1 lowers both levels), or below gain_r_max with 1 + m
+ *     known (else it may be a warm winding, and a weak spring lowers 1 + m) and 1 + m or 1 + f
+ *     below 1 / gain_mech_min and 1 + f within its healthy range (friction_high_rel: a jam's drag,
+ *     far above, is not the sensor; a gain below 1 lowers both levels, and in the 12 V sine the
+ *     friction alone), or below gain_r_max with 1 + m
  *     above gain_mech_min and 1 + f within 1 / gain_mech_min ... gain_mech_min (a gain above 1 and
  *     shorted turns raise the friction with the preload: the motor-constant signature's case);
  *     their sigmas within the mechanics checks' bounds, no open winding or jam code. While 1 + m
- *     reads below 1 / gain_mech_min with the temperature known, P2101 is not failed (no
+ *     or 1 + f reads below 1 / gain_mech_min with the temperature known, P2101 is not failed (no
  *     verdict).
  *
  * Pure C99, no heap, no globals; fixed cost per call.
@@ -480,8 +481,9 @@ typedef struct {
     uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units) */
     uint8_t r_high;        /**< 1 while (R + dR) / R > 1 / gain_r_max with the temperature known (identified) */
     uint8_t r_low_known;   /**< 1 while (R + dR) / R < gain_r_known_max with the temperature known (identified) */
-    uint8_t m_low;         /**< 1 while the adapted preload 1 + m < 1 / gain_mech_min with its sigma within
-                                preload_sigma_max (identified units; set by diag_param_check()) */
+    uint8_t mech_low;      /**< 1 while the adapted preload 1 + m or friction 1 + f < 1 / gain_mech_min, their
+                                sigmas within preload_sigma_max and friction_sigma_max (identified units;
+                                set by diag_param_check()) */
     uint8_t kw_ok;         /**< 1 once a window's kw was taken since r_low was set */
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint16_t offset_sig_n; /**< mechanics checks in a row that read the offset signature (saturating) */
