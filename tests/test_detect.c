@@ -2002,12 +2002,16 @@ static void test_offset_signature(void)
     TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P2101));
     TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 1.2, 1e-5);
     TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.2), TV_R(0.9), TV_R(0.95), 60, 0, &d), 35); /* a gain below 1 */
-    /* a gain below 1 whose deficit the friction alone takes up (the 12 V sine): P1A04, and P2101
-     * held although R is above its bound; with the friction within 2.5 % of 1, P2101 as ever */
-    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.2), TV_R(0.9), TV_R(1.0), 60, 0, &d), 35);
+    /* a gain below 1 whose deficit the friction alone takes up (the 12 V sine): the friction's
+     * deficit (0.25) larger than the resistance's excess (0.2): P1A04, and P2101 held although R
+     * is above its bound; a deficit of 0.1 (a resistance step dips the friction by a fraction of
+     * its own step) or a friction above 0.95: P2101 as ever */
+    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.2), TV_R(0.75), TV_R(1.0), 60, 0, &d), 35);
     TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P2101));
-    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.2), TV_R(0.98), TV_R(1.0), 60, 0, &d), 0);
+    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.2), TV_R(0.9), TV_R(1.0), 60, 0, &d), 0);
     TV_CHECK(diag_confirmed(&d, DIAG_DTC_P2101));
+    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.04), TV_R(0.96), TV_R(1.0), 60, 0, &d), 0);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
     TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.2), TV_R(1.0), TV_R(1.0), 60, 0, &d), 0);
     TV_CHECK(diag_confirmed(&d, DIAG_DTC_P2101));
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));

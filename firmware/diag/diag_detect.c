@@ -71,6 +71,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->gain_w_var_min = TV_R(0.09);
     cfg->gain_hold_checks = 300u;
     cfg->isens_sig_checks = 30u;
+    cfg->isens_sig_friction_low = TV_R(0.95);
     cfg->gain_r_known_max = TV_R(0.96);
     cfg->identified = 0u;
 }
@@ -111,7 +112,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->friction_fast_level_min, cfg->preload_fast_friction_max, cfg->away_friction_min, cfg->away_w_max_rad_s,
                                  cfg->probe_trigger, cfg->probe_min_weight, cfg->probe_friction_frac, cfg->probe_move_rad,
                                  cfg->gain_r_max, cfg->gain_mech_min, cfg->gain_kw_max, cfg->gain_w_var_min,
-                                 cfg->gain_r_known_max};
+                                 cfg->gain_r_known_max, cfg->isens_sig_friction_low};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -128,7 +129,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) ||
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
         !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u ||
-        !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_r_known_max < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0)) ||
+        !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_r_known_max < TV_R(1.0)) ||
+        !(cfg->isens_sig_friction_low < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0)) ||
         cfg->gain_hold_checks == 0u || cfg->isens_sig_checks == 0u || !(cfg->open_emf_allow_V >= TV_R(0.0)) ||
         !(cfg->open_emf_allow_V < cfg->open_u_min_V)) {
         return TV_ERR_CONFIG;
@@ -634,9 +636,15 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         int offset_sig;
         if (m_ok && f_ok) {
             /* either level low: in the 12 V sine the friction state alone takes up a gain below 1
-             * (measured: gain -5 %, identified unit 1000, 1 + f 0.876 with 1 + m 0.996) */
+             * (measured: gain -5 %, identified unit 1000, 1 + f 0.876 with 1 + m 0.996, R 1.053);
+             * the friction's bound is lower (class b's healthy friction reads 0.98, 0.97 for a
+             * second after a resistance step), and its deficit must exceed the resistance's
+             * excess: a gain g moves R by 1 / g - 1 and the friction by several times 1 - g, while
+             * a resistance step dips the friction by a fraction of its own step (class b, R x2:
+             * 1 + f 0.943 for a second) */
             dd->mech_low = dd->cfg.identified && (preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ||
-                                                  friction_rel * dd->cfg.gain_mech_min < TV_R(1.0)) ? 1u : 0u;
+                                                  (friction_rel < dd->cfg.isens_sig_friction_low &&
+                                                   TV_R(1.0) - friction_rel > dd->r_ratio - TV_R(1.0))) ? 1u : 0u;
         }
         /* (a level low with the friction in its healthy range: a jam's drag, far above, is no
          * sensor) */

@@ -185,15 +185,15 @@
  *     the measured current; measured: 1 + m 0.987-1.002 with R x1.25 and x1.5, 0.75-0.98 with an
  *     offset of -0.1 A). So diag_param_check() fails P1A04 once, for isens_sig_checks checks in a
  *     row, either the apparent resistance read above 1 / gain_r_max with the winding's temperature
- *     known (else it may be a warm winding, and a weak spring lowers 1 + m) and 1 + m or 1 + f
- *     below 1 / gain_mech_min and 1 + f within its healthy range (friction_high_rel: a jam's drag,
- *     far above, is not the sensor; a gain below 1 lowers both levels, and in the 12 V sine the
- *     friction alone), or below gain_r_max with 1 + m
+ *     known (else it may be a warm winding, and a weak spring lowers 1 + m) and 1 + m below
+ *     1 / gain_mech_min or 1 + f below isens_sig_friction_low with a deficit larger than R's
+ *     excess, 1 + f within its healthy range (friction_high_rel: a jam's drag, far above, is not
+ *     the sensor; a gain below 1 lowers both levels, and in the 12 V sine the friction alone), or
+ *     below gain_r_max with 1 + m
  *     above gain_mech_min and 1 + f within 1 / gain_mech_min ... gain_mech_min (a gain above 1 and
  *     shorted turns raise the friction with the preload: the motor-constant signature's case);
  *     their sigmas within the mechanics checks' bounds, no open winding or jam code. While 1 + m
- *     or 1 + f reads below 1 / gain_mech_min with the temperature known, P2101 is not failed (no
- *     verdict).
+ *     or 1 + f reads that low with the temperature known, P2101 is not failed (no verdict).
  *
  * Pure C99, no heap, no globals; fixed cost per call.
  */
@@ -406,6 +406,15 @@ typedef struct {
                                        P2119 [-], (0, 1); default 0.96 (a gain of 5 % reads 0.945-0.964, 10 %
                                        0.91; a temperature reading up to 10 K too high leaves a friction
                                        fault to P2119) */
+    tv_real_t isens_sig_friction_low; /**< OFFSET SIGNATURE (below): the adapted friction 1 + f below this
+                                       counts as low for its high side as 1 + m below 1 / gain_mech_min does,
+                                       when its deficit 1 - (1 + f) also exceeds the resistance's excess
+                                       (R + dR) / R - 1 (a gain g moves the friction several times 1 - g,
+                                       a resistance step the friction a fraction of its own step: class
+                                       b, R x2, 1 + f 0.943 for a second) [-], (0, 1); default 0.95 (a
+                                       gain of -5 % in the 12 V sine: 0.80-0.91; class b's healthy
+                                       friction 0.98, 0.97 for a second after a resistance step, which
+                                       with 0.976 held P2101 1-2 s) */
     uint16_t isens_sig_checks;    /**< OFFSET SIGNATURE (identified units): P1A04 fails once the apparent
                                        resistance and the preload have read off together, the friction as
                                        it was, for this many mechanics checks in a row [checks], > 0;
@@ -481,7 +490,8 @@ typedef struct {
     uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units) */
     uint8_t r_high;        /**< 1 while (R + dR) / R > 1 / gain_r_max with the temperature known (identified) */
     uint8_t r_low_known;   /**< 1 while (R + dR) / R < gain_r_known_max with the temperature known (identified) */
-    uint8_t mech_low;      /**< 1 while the adapted preload 1 + m or friction 1 + f < 1 / gain_mech_min, their
+    uint8_t mech_low;      /**< 1 while the adapted preload 1 + m < 1 / gain_mech_min or friction 1 + f <
+                                isens_sig_friction_low, their
                                 sigmas within preload_sigma_max and friction_sigma_max (identified units;
                                 set by diag_param_check()) */
     uint8_t kw_ok;         /**< 1 once a window's kw was taken since r_low was set */
