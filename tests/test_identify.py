@@ -167,6 +167,76 @@ def contact_law_fits(unit, cls, scenario, exp_tol=None):
               (unit, cls, got.get("model.stop_exponent", float("nan")), truth["plant.stop_exponent"], exp_tol))
 
 
+PLATE_KEYS = (("model.J_kg_m2", "plant.J_kg_m2", 0.3), ("model.M0_Nm", "plant.M0_Nm", 0.3),
+              ("model.c_Nm_rad", "plant.c_Nm_rad", 0.3), ("model.Mc_Nm", "plant.Mc_Nm", 0.3),
+              ("model.Ms_Nm", "plant.Ms_Nm", 0.3), ("model.Kv_Nm_s_rad", "plant.Kv_Nm_s_rad", 0.5))
+
+
+def other_log(unit, cls, scenario):
+    """identify on a 30 s log of another scenario than the recommended one: what it writes."""
+    unit_args = ["--unit", str(unit), "--plant-class", cls, "--spread", "all"]
+    log = path("other_%d_%s.csv" % (unit, scenario))
+    prm = path("other_%d_%s.params" % (unit, scenario))
+    expect([exe("host_sim"), "--scenario", scenario, "--duration", "30", "--out", path("sim")] + unit_args +
+           ["--raw-log", log], 0)
+    _, out, _ = expect([exe("identify"), "--quiet", log, "-o", prm], 0)
+    with open(prm) as f:
+        ptxt = f.read()
+    got = keys(ptxt)
+    ident = set(m.group(1) for m in re.finditer(r"^([A-Za-z0-9_.]+) = \S+\s+# identified", ptxt, re.M))
+    _, plant_txt, _ = expect([exe("host_sim"), "--print-plant-params"] + unit_args, 0)
+    truth = keys(plant_txt)
+    # whatever such a log lets identify call identified is near the unit's (before: a stop 0.2 rad
+    # inside the travel, J, M0 and c 75 % low, Kv 27x, each with a sigma of a few per cent)
+    for mkey, pkey, tol in PLATE_KEYS:
+        if mkey in ident:
+            check(abs(got[mkey] / truth[pkey] - 1.0) <= tol, "%d %s: %s = %.4g written, the unit's %.4g" %
+                  (unit, scenario, mkey, got[mkey], truth[pkey]))
+    for side in ("closed", "open"):
+        mkey = "model.phi_%s_rad" % side
+        if mkey in got:
+            check(abs(got[mkey] - truth["plant.phi_%s_rad" % side]) <= 0.005, "%d %s: %s = %.4f written, the unit's %.4f" %
+                  (unit, scenario, mkey, got[mkey], truth["plant.phi_%s_rad" % side]))
+    # the sliding friction's two halves are written together or not at all, unless Kv was held at
+    # its default for too little speed (Mc is then fitted with it)
+    check(("model.Mc_Nm" in got) == ("model.Kv_Nm_s_rad" in got) or
+          re.search(r"^Kv .*NOT IDENTIFIED: too little excitation: \d+ samples at \|w\| >=", out, re.M) is not None,
+          "%d %s: Mc and Kv written together" % (unit, scenario))
+    return got, out + ptxt
+
+
+def other_logs():
+    """Logs of other scenarios (training units 3, class a, and 7, class b): identify says what they
+    cannot give instead of writing it (each check failed before this release's rules)."""
+    # closed-loop driving holds the plate at its lowest and highest targets: friction holds those
+    # rests, no stop does (unit 3: the open stop was written 0.2 rad inside the travel; unit 1:
+    # 0.039 and 1.217 rad, its stops at -0.077 and 1.473); and the friction law's halves trade
+    # (Mc negative, Kv 3.8x and 27x, or Kv 90 % low: speeds below 5 rad/s cannot tell the viscous
+    # slope from the Stribeck drop, so Kv keeps its default and Mc is fitted with it)
+    got, out = other_log(3, "a", "drive")
+    check("model.phi_open_rad" not in got and "model.phi_closed_rad" not in got, "3 drive: no stop angle written")
+    got, out = other_log(1, "a", "drive")
+    check("model.phi_open_rad" not in got and "model.phi_closed_rad" not in got, "1 drive: no stop angle written")
+    check(re.search(r"^phi_open .*no rest at 1\.2\d\d rad held more push than friction can", out, re.M) is not None,
+          "1 drive: why the rest at the end of the travel is no stop")
+    got, out = other_log(7, "b", "drive")
+    check("model.Kv_Nm_s_rad" not in got and "model.Mc_Nm" in got, "7 drive: Kv held at its default, Mc identified with it")
+    # +-10 V steps: the plate fit comes out non-physical (Kv negative): no plate parameter written
+    got, out = other_log(3, "a", "open_steps")
+    check(not any(k in got for k, _, _ in PLATE_KEYS), "3 open_steps: no plate parameter written")
+    check("the plate fit is not physical" in out, "3 open_steps: says why")
+    # the 5 V slow sine: no acceleration above 50 rad/s^2, J held at the default (it read 91 % low)
+    # and the rest fitted with it
+    got, out = other_log(7, "b", "slow_sine")
+    check("model.J_kg_m2" not in got and "dw/dt" in out, "7 slow_sine: J not identified (too little acceleration)")
+    check(all(k in got for k in ("model.M0_Nm", "model.c_Nm_rad", "model.Mc_Nm")), "7 slow_sine: M0, c, Mc identified")
+    # the 12 V chirp has no free motion slower than 2 rad/s: no static friction (it read Ms = Mc,
+    # 48 % below the unit's)
+    got, out = other_log(7, "b", "chirp")
+    check("static friction not identified" in out and re.search(r"^Ms .*NOT IDENTIFIED", out, re.M) is not None,
+          "7 chirp: Ms not identified")
+
+
 def main():
     shutil.rmtree(WORK, ignore_errors=True)
     os.makedirs(WORK)
@@ -218,6 +288,8 @@ def main():
     _, out, _ = expect([exe("identify"), log, "-o", out_prm], 20, "too little excitation", "nothing written")
     check(not os.path.exists(out_prm), "standstill: no parameter file written")
     check("NOT IDENTIFIED" in out, "standstill: the parameters it could not identify are named")
+
+    other_logs()
 
     # bad input: the same exit codes and messages as replay
     good = path("u1000_a.csv")

@@ -19,7 +19,14 @@
  *      with nKt = nKe (an ideal motor's constants are one number in SI units: tied, not fitted
  *      twice), linear in (J, M0, c, Mc, Ms - Mc, Kv) for a given Stribeck velocity ws; ws by
  *      Brent's method (GSL) on the residual sum of squares over ln ws (variable projection),
- *      its standard deviation from the curvature of that sum.
+ *      its standard deviation from the curvature of that sum. What the log cannot separate is
+ *      not fitted: J is held at the default without ID_MIN_SAMPLES / 4 samples at |dw/dt| >=
+ *      ID_J_ACC_MIN, Kv without as many at |w| >= ID_KV_W_MIN (the others fitted to the torque
+ *      less the held terms); where ws runs to a bound of its search the plate is refitted
+ *      without the Stribeck column (Ms, ws not identified; Ms = Mc identified instead where the
+ *      drop is insignificant and ID_NODROP_W_RAD_S slow samples show it); a non-physical J, M0,
+ *      c, Mc or Kv leaves the whole plate unidentified, and Mc and Kv are identified together
+ *      (plate_consistency()).
  *   3. Stops: 50 ms blocks where the plate rests at the travel's ends (the 0.5 % quantiles of
  *      the angle) under a steady push; the contact force (motor torque less the fitted springs)
  *      against the rest angle gives the Hunt-Crossley law a = a0 + dir (F / k)^(1/e) per stop,
@@ -28,7 +35,9 @@
  *      (APP_MODE_IDENT's stop levels) carry no friction and are used alone where a log has them;
  *      otherwise each block is corrected by the friction its last motion left (loading or
  *      unloading, its level searched with the exponent). The onsets a0 are the stop angles,
- *      their standard deviation from a GSL fit at the chosen exponent.
+ *      their standard deviation from a GSL fit at the chosen exponent. A stop is identified
+ *      only where a block held a push above the static friction + ID_CONTACT_PROOF_NM (friction
+ *      holds a plate anywhere against less) and its onset lies on its side of limp-home.
  *   4. Contact law by the impacts: rest angles pin the law at the small penetrations where a
  *      plate dwells, and several exponents fit them about equally well, each with its own k and
  *      onsets; they differ at an impact's depth, which is what the estimator meets at speed.
@@ -54,9 +63,12 @@
  *      stop-learning rule's 0.16 s/rad (not identified).
  *   Each linear fit is done twice: samples with a residual beyond ID_OUTLIER_SIGMA robust
  *   standard deviations (stop impacts, stick-slip inside the window) are dropped for the second.
- *   Standard deviations are s^2 (X^T X)^-1, s^2 the residual variance: white-residual figures,
- *   optimistic for the correlated residuals of smoothed signals. Fit quality: R^2 and the RMS
- *   residual per equation.
+ *   Standard deviations: s^2 (X^T X)^-1, s^2 the residual variance, a white-residual figure
+ *   that is optimistic for the correlated residuals of smoothed signals; each coefficient's is
+ *   widened to the delete-a-block jackknife's (ID_JACK_BLOCKS contiguous blocks) where that is
+ *   larger (ls_jackknife()). Neither sees a bias the whole log shares (a log that excites the
+ *   model where it is wrong): the excitation rules above are for that. Fit quality: R^2 and the
+ *   RMS residual per equation.
  *
  * A parameter is IDENTIFIED when its fit had enough samples and its standard deviation is below
  * ID_REL_SIGMA_MAX of its value (and the value is physical: > 0, Ms >= Mc); otherwise
@@ -79,6 +91,22 @@ extern "C" {
 #define ID_REL_SIGMA_MAX 0.2
 /** Residuals beyond this many robust standard deviations are dropped before the final fit. */
 #define ID_OUTLIER_SIGMA 4.0
+/** J is identified only with ID_MIN_SAMPLES / 4 samples of free motion at least this fast in
+ * acceleration [rad/s^2] (0.07 - 0.1 N m of inertial torque at the classes' J); otherwise it is
+ * held at the default and the other plate parameters are fitted with it. */
+#define ID_J_ACC_MIN 50.0
+/** Kv is identified only with ID_MIN_SAMPLES / 4 samples of free motion at least this fast
+ * [rad/s]; otherwise it is held at the default like J. */
+#define ID_KV_W_MIN 5.0
+/** "No Stribeck drop" (Ms = Mc) is a finding only with ID_MIN_SAMPLES / 4 samples of free
+ * motion slower than this [rad/s]: a drop shows below it for every ws of the classes' spread
+ * (0.5 - 2 rad/s); at the grid's top ws every sample counts as slower than 2 ws. */
+#define ID_NODROP_W_RAD_S 2.0
+/** A stop is identified only where a rest held a push into it this much above the static
+ * friction (which holds a plate anywhere in its travel) [N m]. */
+#define ID_CONTACT_PROOF_NM 0.05
+/** Contiguous blocks of the delete-a-block jackknife that widens a fit's sigmas (ls_jackknife()). */
+#define ID_JACK_BLOCKS 10
 /** Fewest samples a fit needs. */
 #define ID_MIN_SAMPLES 200u
 /** Room for a reason [bytes]. */
