@@ -283,10 +283,10 @@ static int ls_jackknife(const double *X, const double *y, const uint8_t *use, si
     size_t a;
     size_t b;
     size_t k;
-    if (f->n < nb * (p + 1u) || p == 0u || p > ID_LS_PMAX) {
+    if (f->n < nb * (p + 1u) || p == 0u || p > ID_LS_PMAX || nrows < f->n) {
         return TV_OK;
     }
-    u2 = (uint8_t *)malloc(nrows);
+    u2 = (uint8_t *)malloc(nrows + 1u); /* + 1: never a zero-size request */
     if (u2 == NULL) {
         return TV_ERR_IO;
     }
