@@ -225,6 +225,18 @@ extern "C" {
 #define DIAG_ISENS_SETTLE 2u
 /** Current-sensor zero check: samples at rest per check (32 ms at 1 kHz). */
 #define DIAG_ISENS_ZERO_N 32u
+#ifndef DIAG_KW_WIN
+/** Samples of the driven back-EMF window (MOTOR-CONSTANT SIGNATURE): every driven, corrected
+ * sample while the resistance reads low on an identified unit, whatever its current. */
+#define DIAG_KW_WIN 200u
+#endif
+/** The driven window's kw is taken only where the velocity's variance over it reached this
+ * [(rad/s)^2]: motion, not creep. */
+#define DIAG_KW_W_VAR_MIN TV_R(1.0)
+/** ... where the squared correlation of current and velocity over it is at most this [-] ... */
+#define DIAG_KW_RHO2_MAX TV_R(0.81)
+/** ... and where the resistance ratio moved at most this over it [-]. */
+#define DIAG_KW_R_STEADY TV_R(0.1)
 /** Current-sensor in-service check: driven samples in the band per window. */
 #ifndef DIAG_ISENS_WIN
 #define DIAG_ISENS_WIN 500u
@@ -495,6 +507,11 @@ typedef struct {
                                 sigmas within preload_sigma_max and friction_sigma_max (identified units;
                                 set by diag_param_check()) */
     uint8_t kw_ok;         /**< 1 once a window's kw was taken since r_low was set */
+    uint16_t kw_n;         /**< samples in the driven back-EMF window (diag_current_sensor_check()) */
+    tv_real_t kw_s[8];     /**< its sums, as isens_s: i, w, i i, i w, w w, y, i y, w y */
+    tv_real_t kw_r0;       /**< the resistance ratio r_ratio when it began [-] */
+    tv_real_t kw_prev;     /**< the driven window's last judged kw [A s/rad] */
+    uint8_t kw_prev_ok;    /**< 1 when kw_prev is from a window judged since r_low was set */
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint16_t offset_sig_n; /**< mechanics checks in a row that read the offset signature (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
