@@ -1951,6 +1951,84 @@ static void test_shorted_turns_known_temperature(void)
     TV_CHECK_EQ_INT(short_case(0, 1, TV_R(0.8), TV_R(0.02), &d), 0);
 }
 
+/* The driven back-EMF window (MOTOR-CONSTANT SIGNATURE, diag_detect.h) on scripted samples: an
+ * identified unit whose resistance reads r0 with the temperature known; `n` driven samples with
+ * the scripted current and velocity (isens_i / isens_w, the velocity scaled by w_scale, or made
+ * nearly collinear with the current), the current innovation kw1 w over the first window and kw2 w
+ * after it; the resistance check runs before every sample at r0 + drift k / n. Returns the resistance check's sample at which P1A01 confirmed
+ * (0: never). */
+enum { KW_PLAIN = 0, KW_COLLINEAR };
+static int kw_case(int n, int mode, tv_real_t w_scale, tv_real_t r0, tv_real_t drift, tv_real_t kw1, tv_real_t kw2,
+                   diag_detect_t *dd, diag_t *d)
+{
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int k;
+    int at = 0;
+    diag_detect_config_default(&cfg);
+    diag_detect_config_identified(&cfg);
+    TV_CHECK_EQ_INT(diag_detect_init(dd, &cfg), TV_OK);
+    diag_init(d);
+    memset(&snap, 0, sizeof snap);
+    for (k = 0; k < n + (int)DIAG_ISENS_SETTLE; ++k) {
+        const tv_real_t i = isens_i(k);
+        /* nearly collinear: 12 i plus a little of the independent triangle (rho^2 0.92) */
+        const tv_real_t w = mode == KW_COLLINEAR ? TV_R(12.0) * i + TV_R(0.3) * isens_w(k) : w_scale * isens_w(k);
+        /* the first DIAG_KW_WIN counted samples carry kw1, the rest kw2 */
+        const tv_real_t y = (k < (int)(DIAG_KW_WIN + DIAG_ISENS_SETTLE) ? kw1 : kw2) * w;
+        diag_resistance_check(dd, d, 1, TV_R(1.0), (r0 + drift * (tv_real_t)k / (tv_real_t)n) * TV_R(4.3),
+                              TV_R(0.01), TV_R(4.3), 1, &snap);
+        if (at == 0 && diag_confirmed(d, DIAG_DTC_P1A01)) {
+            at = k;
+        }
+        diag_current_sensor_check(dd, d, 1, 1, 1, i + y, y, w, &snap);
+    }
+    return at;
+}
+
+/* The window takes every driven sample while the resistance reads low (these currents sit inside
+ * the in-service band too, whose 500-sample window never fills here): shorted turns' kw = +0.03
+ * A s/rad is taken at the second judged window (the two agree), exactly, and the resistance check
+ * then confirms P1A01 200 samples later (its count); not judged: the first window alone, a
+ * velocity of variance 0.27 (creep), current and velocity nearly collinear (rho^2 0.92), the
+ * resistance ratio moving 0.15 over each window; two windows that disagree (+0.03 then 0) take nothing, a third that
+ * agrees with the second takes 0 (a gain's: no P1A01); a negative slope is taken but is no
+ * shorted turns (signed: the short's back-EMF deficit raises the current with the motion). */
+static void test_driven_backemf_window(void)
+{
+    static diag_detect_t dd;
+    static diag_t d;
+    const int win = (int)DIAG_KW_WIN;
+    const tv_real_t r = TV_R(0.8);
+    int at;
+    at = kw_case(win, KW_PLAIN, TV_R(1.0), r, TV_R(0.0), TV_R(0.03), TV_R(0.03), &dd, &d);
+    TV_CHECK(!dd.kw_ok && at == 0);
+    at = kw_case(2 * win, KW_PLAIN, TV_R(1.0), r, TV_R(0.0), TV_R(0.03), TV_R(0.03), &dd, &d);
+    TV_CHECK(dd.kw_ok != 0u);
+    TV_CHECK_NEAR(dd.isens_kw, 0.03, 1e-4);
+    /* the second window's last sample is call SETTLE - 1 + 2 win - 1; the resistance check fails
+     * from the next call on and confirms at its 200th failure */
+    at = kw_case(3 * win, KW_PLAIN, TV_R(1.0), r, TV_R(0.0), TV_R(0.03), TV_R(0.03), &dd, &d);
+    TV_CHECK_EQ_INT(at, (int)DIAG_ISENS_SETTLE - 1 + 2 * win - 1 + 200);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+    /* not judged (two windows each, fewer samples than the band window's DIAG_ISENS_WIN, which
+     * would judge a slope of its own) */
+    at = kw_case(2 * win, KW_PLAIN, TV_R(0.3), r, TV_R(0.0), TV_R(0.03), TV_R(0.03), &dd, &d);
+    TV_CHECK(!dd.kw_ok && at == 0);
+    at = kw_case(2 * win, KW_COLLINEAR, TV_R(1.0), r, TV_R(0.0), TV_R(0.03), TV_R(0.03), &dd, &d);
+    TV_CHECK(!dd.kw_ok && at == 0);
+    at = kw_case(2 * win, KW_PLAIN, TV_R(1.0), TV_R(0.66), TV_R(0.3), TV_R(0.03), TV_R(0.03), &dd, &d);
+    TV_CHECK(!dd.kw_ok && at == 0);
+    at = kw_case(2 * win, KW_PLAIN, TV_R(1.0), r, TV_R(0.0), TV_R(0.03), TV_R(0.0), &dd, &d);
+    TV_CHECK(!dd.kw_ok && at == 0);
+    at = kw_case(3 * win, KW_PLAIN, TV_R(1.0), r, TV_R(0.0), TV_R(0.03), TV_R(0.0), &dd, &d);
+    TV_CHECK(dd.kw_ok != 0u && at == 0);
+    TV_CHECK_NEAR(dd.isens_kw, 0.0, 1e-4);
+    at = kw_case(3 * win, KW_PLAIN, TV_R(1.0), r, TV_R(0.0), TV_R(-0.03), TV_R(-0.03), &dd, &d);
+    TV_CHECK(dd.kw_ok != 0u && at == 0);
+    TV_CHECK_NEAR(dd.isens_kw, -0.03, 1e-4);
+}
+
 /* The offset signature (diag_detect.h, identified units) on scripted estimates: every step
  * diag_param_check() then diag_resistance_check() (temperature known: P2101's bound 1.15) with
  * the apparent resistance ratio, friction f and preload m held, for `checks` mechanics checks.
@@ -2095,13 +2173,20 @@ static void test_current_offset_identified(void)
 
 /* 20 % of the turns shorted on the identified unit, identified_run(): P1A01 confirmed (by the
  * resistance check's known-temperature bound; before it, the motor-constant signature's 200 checks
- * of motion did not come within the 11 s), never P1A04 or P2119. */
+ * of motion did not come within the 11 s), never P1A04 or P2119; and in limp_home, whose 0.6 s
+ * drives never filled the in-service band window: confirmed by the driven back-EMF window (before
+ * it, nothing in the 11 s). */
 static void test_winding_short_20_identified(void)
 {
     sim_result_t r;
     identified_run("winding_short:0.2@1.0", &r);
     printf("  identified unit: winding_short:0.2: P1A01 at %.2f s after the onset\n", r.dtc_confirm_t_s[DIAG_DTC_P1A01] - 1.0);
     TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A01]));
+    TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) && !isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2119]));
+    identified_run_in("winding_short:0.2@1.0", SIM_SCN_LIMP_HOME, &r);
+    printf("  identified unit, limp_home: winding_short:0.2: P1A01 at %.2f s after the onset\n",
+           r.dtc_confirm_t_s[DIAG_DTC_P1A01] - 1.0);
+    TV_CHECK_LE(r.dtc_confirm_t_s[DIAG_DTC_P1A01] - 1.0, 10.0);
     TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) && !isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2119]));
 }
 
@@ -2193,6 +2278,7 @@ int main(void)
     TV_TEST_RUN(test_motor_constant_signature);
     TV_TEST_RUN(test_current_gain_identified);
     TV_TEST_RUN(test_shorted_turns_known_temperature);
+    TV_TEST_RUN(test_driven_backemf_window);
     TV_TEST_RUN(test_winding_short_20_identified);
     TV_TEST_RUN(test_offset_signature);
     TV_TEST_RUN(test_current_offset_identified);
