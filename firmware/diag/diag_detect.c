@@ -873,8 +873,9 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
          * are not collinear (DIAG_KW_RHO2_MAX) and the resistance estimate held still over the
          * window (DIAG_KW_R_STEADY: its convergence after a step is in the innovations).
          * Measured on identified units, windows of motion: shorted turns +0.012 ... +0.066
-         * A s/rad, a current gain of 5 - 20 % within +-0.0035; the rejected windows read
-         * -0.02 ... +0.08 either way (slow sine, drive, the first window after the onset) */
+         * A s/rad, a current gain of 5 - 20 % -0.007 ... +0.004; the windows these rules reject
+         * read -0.08 ... +0.08 either way (creep and collinear swings in the slow sine and in
+         * closed-loop driving, the first window after the onset) */
         tv_real_t *s = dd->kw_s;
         tv_real_t kw = TV_R(0.0);
         tv_real_t cww = TV_R(0.0);
