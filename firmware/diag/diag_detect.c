@@ -745,6 +745,19 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
     }
 }
 
+/* One sample (i, w, y) into a window's sums s: i, w, i i, i w, w w, y, i y, w y. */
+static void window_add(tv_real_t *s, tv_real_t i, tv_real_t w, tv_real_t y)
+{
+    s[0] += i;
+    s[1] += w;
+    s[2] += i * i;
+    s[3] += i * w;
+    s[4] += w * w;
+    s[5] += y;
+    s[6] += i * y;
+    s[7] += w * y;
+}
+
 /* The slope kw of y = b + ki i + kw w by least squares from a window's centred sums s (as
  * isens_s) over n samples; *cww the velocity's variance [(rad/s)^2], *rho2 the squared
  * correlation of current and velocity. 0 when the regressors are (near-)collinear or constant. */
@@ -884,14 +897,7 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
             memset(dd->kw_s, 0, sizeof dd->kw_s);
             dd->kw_r0 = dd->r_ratio;
         }
-        s[0] += i_pred;
-        s[1] += w_rad_s;
-        s[2] += i_pred * i_pred;
-        s[3] += i_pred * w_rad_s;
-        s[4] += w_rad_s * w_rad_s;
-        s[5] += innov_A;
-        s[6] += i_pred * innov_A;
-        s[7] += w_rad_s * innov_A;
+        window_add(s, i_pred, w_rad_s, innov_A);
         if (++dd->kw_n >= DIAG_KW_WIN) {
             if (window_kw(s, dd->kw_n, &kw, &cww, &rho2) && cww >= DIAG_KW_W_VAR_MIN && rho2 <= DIAG_KW_RHO2_MAX &&
                 TV_FABS(dd->r_ratio - dd->kw_r0) <= DIAG_KW_R_STEADY) {
@@ -919,17 +925,7 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
         memset(dd->isens_s, 0, sizeof dd->isens_s);
         dd->isens_win_low = dd->r_low;
     }
-    {
-        tv_real_t *s = dd->isens_s;
-        s[0] += i_pred;
-        s[1] += w_rad_s;
-        s[2] += i_pred * i_pred;
-        s[3] += i_pred * w_rad_s;
-        s[4] += w_rad_s * w_rad_s;
-        s[5] += innov_A;
-        s[6] += i_pred * innov_A;
-        s[7] += w_rad_s * innov_A;
-    }
+    window_add(dd->isens_s, i_pred, w_rad_s, innov_A);
     if (++dd->isens_n >= DIAG_ISENS_WIN) {
         tv_real_t bias = TV_R(0.0);
         const diag_result_t r = isens_window(dd, &bias);
