@@ -521,6 +521,8 @@ typedef struct {
     tv_real_t kw_r0;       /**< the resistance ratio r_ratio when it began [-] */
     tv_real_t kw_prev;     /**< the driven window's last judged kw [A s/rad] */
     uint8_t kw_prev_ok;    /**< 1 when kw_prev is from a window judged since r_low was set */
+    uint8_t kw_short;      /**< 1 once two judged driven windows in a row read kw above gain_kw_max
+                                since r_low was set: a back-EMF deficit (shorted turns) */
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint16_t offset_sig_n; /**< mechanics checks in a row that read the offset signature (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
