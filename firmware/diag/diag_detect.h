@@ -166,19 +166,22 @@
  *     window's slope kw; measured on identified unit 1000 in closed-loop driving: healthy and gain
  *     errors |kw| < 0.001 A s/rad, 20 % of the turns shorted 0.019, 35 % 0.041). While
  *     (R + dR) / R < gain_r_max (diag_resistance_check()), a window judged since then supplies kw
- *     (when its velocity varied: gain_w_var_min), and so does the DRIVEN window: every driven,
- *     corrected sample meanwhile, whatever its current, regressed the same way over DIAG_KW_WIN
- *     samples (the band window fills at small currents only: limp-home's drives gave it 3 - 27
- *     samples each), its kw taken where the velocity's variance reached DIAG_KW_W_VAR_MIN, the
- *     squared correlation of current and velocity is at most DIAG_KW_RHO2_MAX, the resistance
- *     ratio moved at most DIAG_KW_R_STEADY over it (its convergence after a step is in the
- *     innovations) and the window judged before it read the same side of gain_kw_max (measured,
- *     windows of motion on identified units: shorted turns +0.012 ... +0.066 A s/rad, a gain of
- *     5 - 20 % -0.007 ... +0.004, the first window after a gain's onset up to +0.010 with the
- *     adapted states still settling). diag_param_check() then fails, at each of its checks with
- *     1 + f and 1 + m both above gain_mech_min (their sigmas within the mechanics checks' bounds,
- *     no open winding or jam code), P1A04 when kw <= gain_kw_max, else P1A01 (value: (R + dR) /
- *     R). kw is signed: shorted turns' back-EMF deficit raises the current with the motion. With the winding's temperature known (diag_resistance_check()'s
+ *     (when its velocity varied: gain_w_var_min). The DRIVEN window adds evidence of a deficit
+ *     only: every driven, corrected sample meanwhile, whatever its current, regressed the same
+ *     way over DIAG_KW_WIN samples (the band window fills at small currents only: limp-home's
+ *     drives gave it 3 - 27 samples each); a window is judged where the velocity's variance
+ *     reached DIAG_KW_W_VAR_MIN, the squared correlation of current and velocity is at most
+ *     DIAG_KW_RHO2_MAX and the resistance ratio moved at most DIAG_KW_R_STEADY over it (its
+ *     convergence after a step is in the innovations), and two judged windows in a row above
+ *     gain_kw_max set kw_short (measured, windows of motion on identified units: shorted turns
+ *     +0.012 ... +0.066 A s/rad, a gain of 5 - 20 % -0.007 ... +0.004, the first window after a
+ *     gain's onset up to +0.010 with the adapted states still settling). It gives no gain
+ *     verdict: a short developing over seconds reads a small kw while it is small.
+ *     diag_param_check() then fails, at each of its checks with 1 + f and 1 + m both above
+ *     gain_mech_min (their sigmas within the mechanics checks' bounds, no open winding or jam
+ *     code), P1A01 with kw_short or the band window's kw above gain_kw_max, else P1A04 (value:
+ *     (R + dR) / R). kw is signed: shorted turns' back-EMF deficit raises the current with the
+ *     motion. With the winding's temperature known (diag_resistance_check()'s
  *     temp_known) a resistance below gain_r_known_max is no cold winding, so friction up alone
  *     suffices (a gain's excess torque may be taken up by the friction state alone, as in the
  *     12 V sine). Meanwhile the resistance check does not pass P1A01, and P2119 does not fail
