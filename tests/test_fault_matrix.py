@@ -119,6 +119,31 @@ def synthetic(d):
     check("| winding_open | 5 | 4 | 3 | 5 | 30 | 2 (<= 10 ms) |" in open(os.path.join(d, "matrix.md")).read(),
           "matrix.md's condition table")
     check("condition_runs" not in r, "no condition for a resistance fault")
+    # isolated where the condition was met: of the 5 open-winding runs 4 are isolated; the one that
+    # never met its condition (nan, isolated all the same) is left out: 3 of 4
+    check(o["runs_condition_never_met"] == 1 and abs(o["isolation_rate"] - 0.8) < 1e-12 and
+          abs(o["isolation_rate_condition_met"] - 0.75) < 1e-12, "open winding: isolated 4 of 5, 3 of the 4 that met it")
+    # supply sag (a condition, no delay target): never met and silent (a 2 V sag from 14 V); met
+    # and P0562; met and nothing: isolated 1 of 3, 1 of the 2 that met it
+    with open(os.path.join(d, "runs", "supply_sag:2.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(head)
+        inj = "supply_sag:supply_sag:2.0000"
+        for tc, codes in (("nan", ""), ("2.0000", "P0562:supply_sag:2.4990"), ("2.0000", "")):
+            w.writerow(["all_varied", 1, "a", "drive", 1, 8, tc, inj, codes])
+    subprocess.run([sys.executable, SCRIPT, d, soak], check=True, stdout=subprocess.DEVNULL)
+    s = json.load(open(os.path.join(d, "summary.json")))
+    g = s["classes"]["supply_sag"]
+    check(g["runs_condition_never_met"] == 1 and abs(g["isolation_rate"] - 1.0 / 3.0) < 1e-12 and
+          abs(g["isolation_rate_condition_met"] - 0.5) < 1e-12, "supply sag: isolated 1 of 3, 1 of the 2 that met it")
+    check(g["condition_runs"] == 2 and "within_target_of_condition" not in g, "supply sag: met in 2, no delay target")
+    # jam (5 runs, no t_condition_s column: never met, 3 isolated), winding_resistance_high (3, none
+    # isolated), winding_open (5, 4), supply_sag (3, 1): 8 of 16; leaving out the 5 + 1 + 1 runs
+    # that never met a condition (3 + 1 + 0 of them isolated): 4 of 9
+    a = s["overall"]
+    check(a["runs"] == 16 and abs(a["isolation_rate"] - 0.5) < 1e-12, "overall: isolated 8 of 16")
+    check(a["runs_condition_never_met"] == 7 and abs(a["isolation_rate_condition_met"] - 4.0 / 9.0) < 1e-12,
+          "overall: 4 of the 9 runs that met a condition or have none")
 
 
 def real(d, pop):

@@ -138,6 +138,7 @@ typedef struct {
     float duty_f;               /**< duty written, exactly as the PWM received it (float) */
     double u_applied_V;         /**< voltage the application applies over [t_s, t_s + 1 ms) as its model sees it */
     double u_bridge_V;          /**< mean true winding voltage over [t_s, t_s + 1 ms) (plant) */
+    double supply_V;            /**< the plant's bridge supply in force at t_s, faults included (truth) [V] */
     double duty;                /**< duty written [-] */
     int bridge_enable;          /**< enable written */
     double target_rad;          /**< closed-loop target (NaN in open-loop modes) */

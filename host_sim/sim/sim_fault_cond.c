@@ -1,6 +1,6 @@
 /**
  * @file sim_fault_cond.c
- * @brief The observable condition of a jam or an open winding in the plant's truth (see the header).
+ * @brief The observable condition of a jam, an open winding, a broken spring or a supply sag in the plant's truth (see the header).
  */
 #include "sim_fault_cond.h"
 
@@ -21,7 +21,7 @@ void sim_cond_init(sim_cond_t *c, const plant_config_t *pc, const plant_fault_li
     }
     for (k = 0u; k < faults->n && k < PLANT_FAULT_LIST_MAX; ++k) {
         if (faults->spec[k].kind == PLANT_FAULT_JAM || faults->spec[k].kind == PLANT_FAULT_WINDING_OPEN ||
-            faults->spec[k].kind == PLANT_FAULT_SPRING_WEAK) {
+            faults->spec[k].kind == PLANT_FAULT_SPRING_WEAK || faults->spec[k].kind == PLANT_FAULT_SUPPLY_SAG) {
             c->kind = faults->spec[k].kind;
             c->onset_s = faults->spec[k].t_s;
             return;
@@ -67,6 +67,12 @@ void sim_cond_row(const sim_row_t *row, void *user)
     }
     if (c->kind == PLANT_FAULT_SPRING_WEAK) {
         if (row->bridge_enable) {
+            c->t_s = row->t_s;
+        }
+        return;
+    }
+    if (c->kind == PLANT_FAULT_SUPPLY_SAG) {
+        if (row->supply_V < SIM_COND_SUPPLY_LOW_V) {
             c->t_s = row->t_s;
         }
         return;

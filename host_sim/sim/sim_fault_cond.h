@@ -23,6 +23,10 @@
  *     the onset at which the bridge drives (a spring that breaks while the bridge is off, the
  *     plate resting at limp-home, changes nothing until the actuator operates again; with the
  *     bridge on at the onset the condition is the onset).
+ *   - supply_sag (P0562, "system voltage low"): the first sample at or after the onset at which the
+ *     plant's bridge supply is below SIM_COND_SUPPLY_LOW_V, the level the code is specified for
+ *     (README, code table). A sag on a unit whose supply stays at or above it (a 2 V sag from
+ *     14 V) leaves a healthy supply: no code is due. Issue 12 sets no delay target for it.
  * Other fault kinds have no such condition (their delay counts from the onset).
  */
 #ifndef SIM_FAULT_COND_H
@@ -38,6 +42,7 @@
 #define SIM_COND_STILL_N 8u           /**< ... over this many samples */
 #define SIM_COND_STALL_S 0.1          /**< a stall lasts this long, or until a code confirms [s] */
 #define SIM_COND_OPEN_V 3.0           /**< voltage across an open winding that marks its condition [V] */
+#define SIM_COND_SUPPLY_LOW_V 11.5    /**< bridge supply below which P0562 is due [V] (diag_detect_t's supply_low_V default) */
 
 /** Tracker state (caller-owned; sim_cond_init() before the run). */
 typedef struct {
@@ -53,7 +58,7 @@ typedef struct {
 
 /**
  * Set up for one run: the first fault of faults that has a condition (jam, winding_open,
- * spring_weak) is tracked; none (or faults NULL): sim_cond_time() stays NaN.
+ * spring_weak, supply_sag) is tracked; none (or faults NULL): sim_cond_time() stays NaN.
  * @param pc the unit's healthy plant configuration (not NULL)
  */
 void sim_cond_init(sim_cond_t *c, const plant_config_t *pc, const plant_fault_list_t *faults);

@@ -435,6 +435,10 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         }
         (void)sim_hal_last_adc_time_us(&row.t_us);
         {
+            plant_config_t pcf;
+            row.supply_V = sim_hal_config_in_force(&pcf) == TV_OK ? pcf.supply_V : (double)NAN;
+        }
+        {
             int drv = 0;
             row.driver_fault = hal_driver_fault(&drv) == TV_OK && drv ? 1u : 0u;
         }
