@@ -249,6 +249,13 @@ extern "C" {
 #define DIAG_KW_RHO2_MAX TV_R(0.81)
 /** ... and where the resistance ratio moved at most this over it [-]. */
 #define DIAG_KW_R_STEADY TV_R(0.1)
+/** Resistance checks in a row at or above gain_r_max after which an identified unit's apparent
+ * resistance counts as no longer low (r_low cleared, the back-EMF evidence dropped). Shorter
+ * excursions keep it: with shorted turns the resistance state swings with the sign of i w, the
+ * back-EMF constant being low (measured: class b, 20 % shorted, 5 V slow sine, R + dR 0.60 - 0.80 R
+ * while the motor drives the plate, 1.17 R for 0.22 s as it leaves the open stop, every period,
+ * which cleared the evidence each time before P1A01 could confirm). */
+#define DIAG_R_LOW_EXIT 500u
 /** Current-sensor in-service check: driven samples in the band per window. */
 #ifndef DIAG_ISENS_WIN
 #define DIAG_ISENS_WIN 500u
@@ -511,7 +518,9 @@ typedef struct {
     tv_real_t r_ratio;     /**< the last (R + dR) / R of diag_resistance_check() [-] (0: none yet) */
     tv_real_t isens_kw;    /**< the back-EMF slope kw of the last in-service window judged while the
                                 apparent resistance was below gain_r_max [A s/rad] */
-    uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units) */
+    uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units), and through
+                                excursions above it shorter than DIAG_R_LOW_EXIT checks */
+    uint16_t r_out_n;      /**< resistance checks in a row at or above gain_r_max (saturating) */
     uint8_t r_high;        /**< 1 while (R + dR) / R > 1 / gain_r_max with the temperature known (identified) */
     uint8_t r_low_known;   /**< 1 while (R + dR) / R < gain_r_known_max with the temperature known (identified) */
     uint8_t mech_low;      /**< 1 while the adapted preload 1 + m < 1 / gain_mech_min or friction 1 + f <
