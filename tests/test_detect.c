@@ -2027,6 +2027,49 @@ static void test_driven_backemf_window(void)
     TV_CHECK(!dd.kw_short && !dd.kw_ok && at == 0);
 }
 
+/* An excursion of the apparent resistance above gain_r_max after kw_short was set (the driven
+ * window's shorted turns, kw 0.03 A s/rad at 0.8 R): n resistance checks at 1.17 R (shorted turns
+ * swing the resistance state so as the plate leaves a stop), then checks at 0.8 R until P1A01
+ * confirms. Returns that check's number after the excursion (0: not within 300). */
+static int excursion_case(int n, diag_detect_t *dd, diag_t *d)
+{
+    diag_snapshot_t snap;
+    int k;
+    memset(&snap, 0, sizeof snap);
+    (void)kw_case(2 * (int)DIAG_KW_WIN, KW_PLAIN, TV_R(1.0), TV_R(0.8), TV_R(0.0), TV_R(0.03), TV_R(0.03), dd, d);
+    TV_CHECK(dd->kw_short != 0u && dd->r_low != 0u);
+    for (k = 0; k < n; ++k) {
+        diag_resistance_check(dd, d, 1, TV_R(1.0), TV_R(1.17) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 1, &snap);
+    }
+    TV_CHECK(!diag_confirmed(d, DIAG_DTC_P1A01));
+    for (k = 1; k <= 300; ++k) {
+        diag_resistance_check(dd, d, 1, TV_R(1.0), TV_R(0.8) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 1, &snap);
+        if (diag_confirmed(d, DIAG_DTC_P1A01)) {
+            return k;
+        }
+    }
+    return 0;
+}
+
+/* The apparent resistance stays low through an excursion above gain_r_max shorter than
+ * DIAG_R_LOW_EXIT checks (220 here, as measured on class b in the 5 V slow sine): the back-EMF
+ * evidence is kept, and P1A01 confirms at its 200th failed check, 199 after the resistance reads
+ * 0.8 R again (kw_case() left one: the check after kw_short was set), as with no excursion at
+ * all (the excursion neither fails nor passes it); from
+ * DIAG_R_LOW_EXIT checks on the unit is out of the signature: the evidence is dropped and P1A01
+ * waits for new windows. */
+static void test_resistance_excursion(void)
+{
+    static diag_detect_t dd;
+    static diag_t d;
+    TV_CHECK_EQ_INT(excursion_case(0, &dd, &d), 199);
+    TV_CHECK_EQ_INT(excursion_case(220, &dd, &d), 199);
+    TV_CHECK(dd.kw_short != 0u);
+    TV_CHECK_EQ_INT(excursion_case((int)DIAG_R_LOW_EXIT - 1, &dd, &d), 199);
+    TV_CHECK_EQ_INT(excursion_case((int)DIAG_R_LOW_EXIT, &dd, &d), 0);
+    TV_CHECK(!dd.kw_short);
+}
+
 /* The offset signature (diag_detect.h, identified units) on scripted estimates: every step
  * diag_param_check() then diag_resistance_check() (temperature known: P2101's bound 1.15) with
  * the apparent resistance ratio, friction f and preload m held, for `checks` mechanics checks.
@@ -2277,6 +2320,7 @@ int main(void)
     TV_TEST_RUN(test_current_gain_identified);
     TV_TEST_RUN(test_shorted_turns_known_temperature);
     TV_TEST_RUN(test_driven_backemf_window);
+    TV_TEST_RUN(test_resistance_excursion);
     TV_TEST_RUN(test_winding_short_20_identified);
     TV_TEST_RUN(test_offset_signature);
     TV_TEST_RUN(test_current_offset_identified);
