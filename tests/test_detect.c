@@ -2027,47 +2027,60 @@ static void test_driven_backemf_window(void)
     TV_CHECK(!dd.kw_short && !dd.kw_ok && at == 0);
 }
 
-/* An excursion of the apparent resistance above gain_r_max after kw_short was set (the driven
- * window's shorted turns, kw 0.03 A s/rad at 0.8 R): n resistance checks at 1.17 R (shorted turns
- * swing the resistance state so as the plate leaves a stop), then checks at 0.8 R until P1A01
- * confirms. Returns that check's number after the excursion (0: not within 300). */
-static int excursion_case(int n, diag_detect_t *dd, diag_t *d)
+/* Driven samples as kw_case()'s (kw 0.03 A s/rad: shorted turns) in three phases: one driven
+ * window (DIAG_KW_WIN samples after the settling) at 0.8 R, n_exc samples at 1.17 R (the excursion
+ * above gain_r_max that shorted turns give the resistance state as the plate leaves a stop), then
+ * samples at 0.8 R again: a second window, then the resistance check until P1A01 confirms.
+ * Returns the sample after the excursion at which it confirmed (0: not within 2 windows + 300). */
+static int excursion_case(int n_exc, diag_detect_t *dd, diag_t *d)
 {
+    diag_detect_config_t cfg;
     diag_snapshot_t snap;
+    const int n1 = (int)DIAG_KW_WIN + (int)DIAG_ISENS_SETTLE;
     int k;
+    diag_detect_config_default(&cfg);
+    diag_detect_config_identified(&cfg);
+    TV_CHECK_EQ_INT(diag_detect_init(dd, &cfg), TV_OK);
+    diag_init(d);
     memset(&snap, 0, sizeof snap);
-    (void)kw_case(2 * (int)DIAG_KW_WIN, KW_PLAIN, TV_R(1.0), TV_R(0.8), TV_R(0.0), TV_R(0.03), TV_R(0.03), dd, d);
-    TV_CHECK(dd->kw_short != 0u && dd->r_low != 0u);
-    for (k = 0; k < n; ++k) {
-        diag_resistance_check(dd, d, 1, TV_R(1.0), TV_R(1.17) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 1, &snap);
-    }
-    TV_CHECK(!diag_confirmed(d, DIAG_DTC_P1A01));
-    for (k = 1; k <= 300; ++k) {
-        diag_resistance_check(dd, d, 1, TV_R(1.0), TV_R(0.8) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 1, &snap);
+    for (k = 0; k < n1 + n_exc + 2 * (int)DIAG_KW_WIN + 300; ++k) {
+        /* 1 A more than kw_case()'s: outside the in-service band, whose window (which would
+         * judge a slope of its own over these longer runs) never fills; the driven window's
+         * regression is centred, the shift changes nothing there */
+        const tv_real_t i = TV_R(1.0) + isens_i(k);
+        const tv_real_t w = isens_w(k);
+        const tv_real_t y = TV_R(0.03) * w;
+        const tv_real_t ratio = k >= n1 && k < n1 + n_exc ? TV_R(1.17) : TV_R(0.8);
+        diag_resistance_check(dd, d, 1, TV_R(1.0), ratio * TV_R(4.3), TV_R(0.01), TV_R(4.3), 1, &snap);
         if (diag_confirmed(d, DIAG_DTC_P1A01)) {
-            return k;
+            return k - (n1 + n_exc) + 1;
+        }
+        diag_current_sensor_check(dd, d, 1, 1, 1, i + y, y, w, &snap);
+        if (k == n1 - 1) {
+            TV_CHECK(dd->kw_prev_ok != 0u && !dd->kw_short); /* one judged window: half the pair */
         }
     }
     return 0;
 }
 
-/* The apparent resistance stays low through an excursion above gain_r_max shorter than
- * DIAG_R_LOW_EXIT checks (220 here, as measured on class b in the 5 V slow sine): the back-EMF
- * evidence is kept, and P1A01 confirms at its 200th failed check, 199 after the resistance reads
- * 0.8 R again (kw_case() left one: the check after kw_short was set), as with no excursion at
- * all (the excursion neither fails nor passes it); from
- * DIAG_R_LOW_EXIT checks on the unit is out of the signature: the evidence is dropped and P1A01
- * waits for new windows. */
+/* The driven window's reading survives an excursion above gain_r_max shorter than
+ * DIAG_R_LOW_EXIT checks (220 samples here, as measured on class b in the 5 V slow sine): the
+ * next judged window completes the pair, kw_short is set at its last sample (DIAG_KW_WIN after the
+ * excursion) and P1A01 confirms at the resistance check's 200th failure after it, as with no
+ * excursion at all; from DIAG_R_LOW_EXIT checks on the reading is dropped and one window is again
+ * only half the pair. */
 static void test_resistance_excursion(void)
 {
     static diag_detect_t dd;
     static diag_t d;
-    TV_CHECK_EQ_INT(excursion_case(0, &dd, &d), 199);
-    TV_CHECK_EQ_INT(excursion_case(220, &dd, &d), 199);
-    TV_CHECK(dd.kw_short != 0u);
-    TV_CHECK_EQ_INT(excursion_case((int)DIAG_R_LOW_EXIT - 1, &dd, &d), 199);
-    TV_CHECK_EQ_INT(excursion_case((int)DIAG_R_LOW_EXIT, &dd, &d), 0);
-    TV_CHECK(!dd.kw_short);
+    /* after an excursion: the second window's DIAG_KW_WIN samples, kw_short at its last, then
+     * 200 failures; without one the second window began a sample earlier (the first counted
+     * sample is the call DIAG_ISENS_SETTLE - 1, so the first window ends a call before n1) */
+    const int at = (int)DIAG_KW_WIN + 200;
+    TV_CHECK_EQ_INT(excursion_case(0, &dd, &d), at - 1);
+    TV_CHECK_EQ_INT(excursion_case(220, &dd, &d), at);
+    TV_CHECK_EQ_INT(excursion_case((int)DIAG_R_LOW_EXIT - 1, &dd, &d), at);
+    TV_CHECK_EQ_INT(excursion_case((int)DIAG_R_LOW_EXIT, &dd, &d), (int)DIAG_KW_WIN + at);
 }
 
 /* The offset signature (diag_detect.h, identified units) on scripted estimates: every step

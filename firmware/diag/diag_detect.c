@@ -435,12 +435,10 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
     ratio = r_est_ohm / r_nom_ohm;
     dd->r_ratio = ratio;
     {
-        const uint8_t below = dd->cfg.identified && ratio < dd->cfg.gain_r_max ? 1u : 0u;
-        uint8_t low;
-        dd->r_out_n = below ? 0u : (uint16_t)(dd->r_out_n + (dd->r_out_n < 0xFFFFu ? 1u : 0u));
-        /* an excursion above gain_r_max shorter than DIAG_R_LOW_EXIT checks stays low (shorted
-         * turns swing the resistance state with the sign of i w) */
-        low = below || (dd->r_low && dd->cfg.identified && dd->r_out_n < DIAG_R_LOW_EXIT) ? 1u : 0u;
+        const uint8_t low = dd->cfg.identified && ratio < dd->cfg.gain_r_max ? 1u : 0u;
+        /* (the driven window's last reading survives an excursion above gain_r_max shorter than
+         * DIAG_R_LOW_EXIT of these checks: diag_current_sensor_check()) */
+        dd->r_out_n = low ? 0u : (uint16_t)(dd->r_out_n + (dd->r_out_n < 0xFFFFu ? 1u : 0u));
         if (!low || !dd->r_low) {
             /* out of the signature, or just into it: a back-EMF slope is needed from a window
              * begun from now on (isens_win_low), and the hold of P2119 starts over */
@@ -926,7 +924,11 @@ void diag_current_sensor_check(diag_detect_t *dd, diag_t *d, int bridge_on, int 
         }
     } else {
         dd->kw_n = 0u;
-        dd->kw_prev_ok = 0u;
+        if (dd->r_out_n >= DIAG_R_LOW_EXIT) {
+            /* (a shorter excursion keeps the last judged window's reading: with shorted turns the
+             * resistance state swings above gain_r_max as the plate leaves a stop, DIAG_R_LOW_EXIT) */
+            dd->kw_prev_ok = 0u;
+        }
     }
     if (TV_FABS(i_pred) > dd->isens_band_A || TV_FABS(innov_A) > dd->cfg.isens_innov_max_A) {
         return; /* outside the band, or an impact the model placed late: not counted, the window goes on */

@@ -249,12 +249,13 @@ extern "C" {
 #define DIAG_KW_RHO2_MAX TV_R(0.81)
 /** ... and where the resistance ratio moved at most this over it [-]. */
 #define DIAG_KW_R_STEADY TV_R(0.1)
-/** Resistance checks in a row at or above gain_r_max after which an identified unit's apparent
- * resistance counts as no longer low (r_low cleared, the back-EMF evidence dropped). Shorter
- * excursions keep it: with shorted turns the resistance state swings with the sign of i w, the
- * back-EMF constant being low (measured: class b, 20 % shorted, 5 V slow sine, R + dR 0.60 - 0.80 R
- * while the motor drives the plate, 1.17 R for 0.22 s as it leaves the open stop, every period,
- * which cleared the evidence each time before P1A01 could confirm). */
+/** Resistance checks in a row at or above gain_r_max after which the driven back-EMF window's
+ * last judged reading (kw_prev) is dropped. A shorter excursion keeps it, so that the next judged
+ * window makes the pair that sets kw_short: with shorted turns the resistance state swings with
+ * the sign of i w, the back-EMF constant being low (measured: class b, 20 % shorted, 5 V slow
+ * sine, R + dR 0.60 - 0.80 R while the motor drives the plate, 1.17 R for 0.22 s as it leaves the
+ * open stop, every period, which dropped the reading each time before the pair was complete).
+ * r_low itself, kw_short and the rest of the signature's state clear at once, as before. */
 #define DIAG_R_LOW_EXIT 500u
 /** Current-sensor in-service check: driven samples in the band per window. */
 #ifndef DIAG_ISENS_WIN
@@ -518,8 +519,7 @@ typedef struct {
     tv_real_t r_ratio;     /**< the last (R + dR) / R of diag_resistance_check() [-] (0: none yet) */
     tv_real_t isens_kw;    /**< the back-EMF slope kw of the last in-service window judged while the
                                 apparent resistance was below gain_r_max [A s/rad] */
-    uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units), and through
-                                excursions above it shorter than DIAG_R_LOW_EXIT checks */
+    uint8_t r_low;         /**< 1 while (R + dR) / R < gain_r_max (identified units) */
     uint16_t r_out_n;      /**< resistance checks in a row at or above gain_r_max (saturating) */
     uint8_t r_high;        /**< 1 while (R + dR) / R > 1 / gain_r_max with the temperature known (identified) */
     uint8_t r_low_known;   /**< 1 while (R + dR) / R < gain_r_known_max with the temperature known (identified) */
@@ -532,7 +532,8 @@ typedef struct {
     tv_real_t kw_s[8];     /**< its sums, as isens_s: i, w, i i, i w, w w, y, i y, w y */
     tv_real_t kw_r0;       /**< the resistance ratio r_ratio when it began [-] */
     tv_real_t kw_prev;     /**< the driven window's last judged kw [A s/rad] */
-    uint8_t kw_prev_ok;    /**< 1 when kw_prev is from a window judged since r_low was set */
+    uint8_t kw_prev_ok;    /**< 1 when kw_prev is from a window judged since r_low was set, or before an
+                                excursion above gain_r_max shorter than DIAG_R_LOW_EXIT checks */
     uint8_t kw_short;      /**< 1 once two judged driven windows in a row read kw above gain_kw_max
                                 since r_low was set: a back-EMF deficit (shorted turns) */
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
