@@ -704,8 +704,13 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
     }
     {
         /* the model's breakaway voltage here in the push's direction: static friction, and the
-         * springs' preload and rate where they oppose the push (diag_jam_breakaway_Nm()) */
-        const tv_real_t u_break_V = p->R_ohm / (p->n_gear * p->Kt_Nm_A) *
+         * springs' preload and rate where they oppose the push (diag_jam_breakaway_Nm()), through
+         * the larger of the model's resistance (at the winding's temperature, when known) and the
+         * adapted one: a warm or corroded winding needs more voltage for the same torque, and an
+         * identified unit's tighter jam_break_factor must not take that for a jam */
+        const tv_real_t r_model = p->R_ohm * app->r_temp_factor;
+        const tv_real_t r_brk = out->r_est_ohm > r_model ? out->r_est_ohm : r_model;
+        const tv_real_t u_break_V = r_brk / (p->n_gear * p->Kt_Nm_A) *
                                     diag_jam_breakaway_Nm(&app->ddet, app->u_applied_V, out->x[TVM_PHI], p->Ms_Nm, p->M0_Nm,
                                                           p->c_Nm_rad);
         /* closed loop: the target; open loop (sine, steps, chirp): the stop the voltage pushes
