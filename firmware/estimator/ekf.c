@@ -155,6 +155,8 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->qc_Nm2_s = EKF_DEFAULT_QC_NM2_S;
     cfg->qT_rel_s = EKF_DEFAULT_QT_REL_S;
     cfg->impact_timing = EKF_DEFAULT_IMPACT_TIMING;
+    cfg->stuck_q_min = EKF_DEFAULT_STUCK_Q_MIN;
+    cfg->stuck_hold_frac = EKF_DEFAULT_STUCK_HOLD_FRAC;
     cfg->stop_learn_margin_rad = EKF_DEFAULT_STOP_LEARN_MARGIN_RAD;
     cfg->qd_contact_Nm2_s = EKF_DEFAULT_QD_CONTACT_NM2_S;
     cfg->qd_free_Nm2_s = EKF_DEFAULT_QD_FREE_NM2_S;
@@ -263,7 +265,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->dr_excite_A) || !TV_IS_FINITE(cfg->qf_1_s) || !TV_IS_FINITE(cfg->f_sigma0) ||
         !TV_IS_FINITE(cfg->f_abs_max) || !TV_IS_FINITE(cfg->f_excite_rad_s) || !TV_IS_FINITE(cfg->qm_1_s) ||
         !TV_IS_FINITE(cfg->m_sigma0) || !TV_IS_FINITE(cfg->m_abs_max) || !TV_IS_FINITE(cfg->nis_inflate_alpha) ||
-        !TV_IS_FINITE(cfg->nis_inflate_threshold) || !TV_IS_FINITE(cfg->nis_inflate_max)) {
+        !TV_IS_FINITE(cfg->nis_inflate_threshold) || !TV_IS_FINITE(cfg->nis_inflate_max) ||
+        !TV_IS_FINITE(cfg->stuck_q_min) || !TV_IS_FINITE(cfg->stuck_hold_frac)) {
         return TV_ERR_NONFINITE;
     }
     if (cfg->setup != EKF_SETUP_CURRENT_ANGLE && cfg->setup != EKF_SETUP_PAPER_3MEAS) {
@@ -292,7 +295,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !(cfg->f_abs_max > TV_R(0.0) && cfg->f_abs_max < TV_R(1.0)) || cfg->f_excite_rad_s < TV_R(0.0) ||
         cfg->qm_1_s < TV_R(0.0) || cfg->m_sigma0 < TV_R(0.0) || !(cfg->m_abs_max > TV_R(0.0) && cfg->m_abs_max < TV_R(1.0)) ||
         cfg->nis_inflate_alpha < TV_R(0.0) || cfg->nis_inflate_alpha > TV_R(1.0) || !(cfg->nis_inflate_threshold > TV_R(0.0)) ||
-        !(cfg->nis_inflate_max >= TV_R(1.0))) {
+        !(cfg->nis_inflate_max >= TV_R(1.0)) || !(cfg->stuck_q_min > TV_R(0.0)) || cfg->stuck_q_min > TV_R(1.0) ||
+        !(cfg->stuck_hold_frac > TV_R(0.0)) || cfg->stuck_hold_frac > TV_R(1.0)) {
         return TV_ERR_CONFIG;
     }
     /* the explicit resistance error must leave the current's decay per sub-step in (0, 1):
@@ -449,7 +453,7 @@ static void aug_put(ekf_t *ekf, const aug_part_t *ap)
  *   Paa <- B Paa B + Qa Ts,  a <- B a.
  */
 static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX][TVM_NX],
-                     tv_real_t G[TVM_NX][TVM_NA], int contact, tv_real_t qt, tv_real_t qw)
+                     tv_real_t G[TVM_NX][TVM_NA], int contact, tv_real_t qt, tv_real_t qw, tv_real_t q_plate)
 {
     mat3_t FP;
     mat3_t Pn;
@@ -525,13 +529,17 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
     for (a = 0; a < TVM_NX; ++a) {
         TV_UNROLL3
         for (b = a; b < TVM_NX; ++b) {
-            Pn[a][b] = FP[a][0] * F[b][0] + FP[a][1] * F[b][1] + FP[a][2] * F[b][2] + ekf->Qs[a][b];
+            tv_real_t q = ekf->Qs[a][b];
             if (add_qc) {
-                Pn[a][b] += ekf->Qc[a][b];
+                q += ekf->Qc[a][b];
             }
             if (qt > TV_R(0.0)) {
-                Pn[a][b] += qt * ekf->Qt1[a][b];
+                q += qt * ekf->Qt1[a][b];
             }
+            if (a != TVM_I) {
+                q *= q_plate; /* the plate's block (Q has no current-plate terms) */
+            }
+            Pn[a][b] = FP[a][0] * F[b][0] + FP[a][1] * F[b][1] + FP[a][2] * F[b][2] + q;
             if (ekf->aug_on && G != NULL) {
                 /* unused columns of FPa and G are 0: adding them is exact, and cheaper than a test */
                 Pn[a][b] += FPa[a][0] * G[b][0] + FPa[a][1] * G[b][1] + FPa[a][2] * G[b][2] + FPa[a][3] * G[b][3];
@@ -604,7 +612,7 @@ int ekf_propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM_NX
     if (ekf == NULL || x_pred == NULL || F == NULL) {
         return TV_ERR_NULL;
     }
-    return propagate(ekf, x_pred, F, NULL, 0, TV_R(0.0), TV_R(0.0));
+    return propagate(ekf, x_pred, F, NULL, 0, TV_R(0.0), TV_R(0.0), TV_R(1.0));
 }
 
 int ekf_predict(ekf_t *ekf, tv_real_t u_V)
@@ -613,6 +621,7 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
     mat3_t F;
     tv_real_t G[TVM_NX][TVM_NA];
     tv_real_t peak = TV_R(0.0);
+    tv_real_t hold = TV_R(-1.0);
     if (ekf == NULL) {
         return TV_ERR_NULL;
     }
@@ -625,10 +634,10 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
         return TV_ERR_RANGE;
     }
     if (ekf->aug_on) {
-        tvm_step_aug_peak(&ekf->model, ekf->x, ekf->aug, u_V, xn, F, G, ekf->g_cols, &peak);
+        tvm_step_aug_peak(&ekf->model, ekf->x, ekf->aug, u_V, xn, F, G, ekf->g_cols, &peak, &hold);
     } else {
         static const tv_real_t a0[TVM_NA] = {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)};
-        tvm_step_aug_peak(&ekf->model, ekf->x, a0, u_V, xn, F, NULL, 0u, &peak);
+        tvm_step_aug_peak(&ekf->model, ekf->x, a0, u_V, xn, F, NULL, 0u, &peak, &hold);
     }
     {
         /* in the contact band of a stop (either side) the contact law is uncertain */
@@ -636,7 +645,13 @@ int ekf_predict(ekf_t *ekf, tv_real_t u_V)
         const int contact = band > TV_R(0.0) && (xn[TVM_PHI] < ekf->model.p.phi_closed_rad + band ||
                                                  xn[TVM_PHI] > ekf->model.p.phi_open_rad - band);
         const tv_real_t qw = impact_timing_var(ekf, ekf->x[TVM_PHI], xn, peak);
-        const int rc = propagate(ekf, xn, F, ekf->aug_on ? G : NULL, contact, model_torque_noise(ekf), qw);
+        /* stuck-plate noise: the plate's process noise scaled by how firmly static friction holds it */
+        tv_real_t q_plate = TV_R(1.0);
+        if (hold > TV_R(0.0) && !contact && ekf->cfg.stuck_q_min < TV_R(1.0)) {
+            const tv_real_t t = hold >= ekf->cfg.stuck_hold_frac ? TV_R(1.0) : hold / ekf->cfg.stuck_hold_frac;
+            q_plate = TV_R(1.0) - (TV_R(1.0) - ekf->cfg.stuck_q_min) * t;
+        }
+        const int rc = propagate(ekf, xn, F, ekf->aug_on ? G : NULL, contact, model_torque_noise(ekf), qw, q_plate);
         if (rc == TV_OK && qw > TV_R(0.0)) {
             ++ekf->n_impact_timing;
         }

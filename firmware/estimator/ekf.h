@@ -60,6 +60,9 @@ extern "C" {
  *  timing": why not the pick itself). */
 #define EKF_DEFAULT_IMPACT_TIMING TV_R(0.003)
 #define EKF_DEFAULT_STOP_LEARN_MARGIN_RAD TV_R(0.0)
+/** Default stuck-plate noise (ekf_config_t::stuck_q_min, stuck_hold_frac): chosen on the training units (README "Honest sigma at rest"). */
+#define EKF_DEFAULT_STUCK_Q_MIN TV_R(0.01)
+#define EKF_DEFAULT_STUCK_HOLD_FRAC TV_R(0.65)
 
 /** Default contact-torque state (ekf_config_t::qd_contact_Nm2_s ...): off until tuned. */
 #define EKF_DEFAULT_QD_CONTACT_NM2_S TV_R(0.0)
@@ -281,6 +284,18 @@ typedef struct {
     tv_real_t nis_inflate_alpha;
     tv_real_t nis_inflate_threshold;    /**< average NIS above which Q is inflated [-], > 0 */
     tv_real_t nis_inflate_max;          /**< largest factor on Q [-], >= 1 */
+    /**
+     * Stuck-plate noise (README "Honest sigma at rest"): where every sub-step of the prediction
+     * holds the plate stuck by static friction with a reserve of at least stuck_hold_frac of the
+     * friction level (tvm_step_aug_peak()'s hold_frac: the net torque at most 1 - stuck_hold_frac
+     * of the breakaway), a torque error smaller than that reserve cannot move the plate, so the
+     * plate's process noise (the velocity and angle block of Q, the model-torque noise included)
+     * is scaled by stuck_q_min; between no reserve and stuck_hold_frac the factor goes linearly
+     * from 1 to stuck_q_min. Not in the contact band (the contact law's noise stays). stuck_q_min
+     * in (0, 1], 1 = off; stuck_hold_frac in (0, 1].
+     */
+    tv_real_t stuck_q_min;
+    tv_real_t stuck_hold_frac;          /**< reserve of static friction from which stuck_q_min applies [-] */
 } ekf_config_t;
 
 /** Filter state. Allocate it anywhere (static, stack); initialise with ekf_init(). */

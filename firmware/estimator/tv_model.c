@@ -216,12 +216,12 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
                   tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA],
                   unsigned g_cols)
 {
-    tvm_step_aug_peak(m, x, a_in, u_V, x_next, F, G, g_cols, NULL);
+    tvm_step_aug_peak(m, x, a_in, u_V, x_next, F, G, g_cols, NULL, NULL);
 }
 
 void tvm_step_aug_peak(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_in[TVM_NA], tv_real_t u_V,
                        tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA],
-                       unsigned g_cols, tv_real_t *peak_stop_Nm)
+                       unsigned g_cols, tv_real_t *peak_stop_Nm, tv_real_t *hold_frac)
 {
     const tvm_params_t *p = &m->p;
     const tv_real_t d_Nm = a_in[TVM_A_TORQUE];
@@ -243,6 +243,10 @@ void tvm_step_aug_peak(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_
                                     {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)},
                                     {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)}};
     tv_real_t peak = TV_R(0.0);
+    /* whether any sub-step slipped; the last one's friction reserve D - |z| and its D */
+    tv_real_t res_min = TV_R(-1.0);
+    tv_real_t res_D = TV_R(0.0);
+    int any_slip = 0;
     int k;
 
     for (k = 0; k < p->substeps; ++k) {
@@ -262,6 +266,9 @@ void tvm_step_aug_peak(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_
         const tv_real_t sz = z >= TV_R(0.0) ? TV_R(1.0) : TV_R(-1.0);
         const tv_real_t w1 = slipping ? m->kappa * sz * (az - D) : TV_R(0.0);
         const tv_real_t phi1 = phi + m->h_s * w1;
+        any_slip |= slipping;
+        res_min = D - az;
+        res_D = D;
 
         if (F != NULL) {
             /* Sub-step Jacobian S = d(i1, w1, phi1)/d(i, w, phi), chained as Fa <- S Fa. Its
@@ -316,6 +323,10 @@ void tvm_step_aug_peak(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_
     }
     if (peak_stop_Nm != NULL) {
         *peak_stop_Nm = peak;
+    }
+    if (hold_frac != NULL) {
+        *hold_frac = !any_slip && res_D > TV_R(0.0) ? res_min / res_D : TV_R(-1.0);
+
     }
     x_next[TVM_I] = i;
     x_next[TVM_W] = w;

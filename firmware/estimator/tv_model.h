@@ -199,11 +199,16 @@ void tvm_step_aug(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_i
  * tvm_step_aug(), and the largest magnitude of the stop torque M_stop over the period's
  * sub-steps, each evaluated at the sub-step's start as the map uses it [N m] (0 when no sub-step
  * starts inside a stop), in *peak_stop_Nm unless NULL: the impact timing of the EKF
- * (ekf_config_t::impact_timing) scales by it.
+ * (ekf_config_t::impact_timing) scales by it. In *hold_frac unless NULL, how firmly static
+ * friction holds the plate at the period's end: 1 - |z| / D of its last sub-step when every
+ * sub-step held the plate stuck (|z| <= D: z the velocity the sub-step's net torque would reach,
+ * D what the friction level takes away; at rest 1 - |net torque| / static friction: 1 = no net
+ * torque, 0 = at breakaway), -1 when any sub-step slipped. The EKF's stuck-plate noise
+ * (ekf_config_t::stuck_q_min) scales by it.
  */
 void tvm_step_aug_peak(const tvm_t *m, const tv_real_t x[TVM_NX], const tv_real_t a_in[TVM_NA], tv_real_t u_V,
                        tv_real_t x_next[TVM_NX], tv_real_t F[TVM_NX][TVM_NX], tv_real_t G[TVM_NX][TVM_NA],
-                       unsigned g_cols, tv_real_t *peak_stop_Nm);
+                       unsigned g_cols, tv_real_t *peak_stop_Nm, tv_real_t *hold_frac);
 
 #ifdef __cplusplus
 }
