@@ -180,6 +180,8 @@ void check_config(const ekf_config_t& c, const tvref::Config& r)
     }
     TV_CHECK_NEAR(c.qT_rel_s, r.qT_rel_s, kStoreTol * r.qT_rel_s);
     TV_CHECK_NEAR(c.impact_timing, r.impact_timing, kStoreTol * r.impact_timing);
+    TV_CHECK_NEAR(c.stuck_q_min, r.stuck_q_min, kStoreTol * r.stuck_q_min);
+    TV_CHECK_NEAR(c.stuck_hold_frac, r.stuck_hold_frac, kStoreTol * r.stuck_hold_frac);
     TV_CHECK_NEAR(c.nis_inflate_alpha, r.nis_inflate_alpha, kStoreTol * r.nis_inflate_alpha);
     if (r.nis_inflate_alpha > 0.0) {
         TV_CHECK_NEAR(c.nis_inflate_threshold, r.nis_inflate_threshold, kStoreTol * r.nis_inflate_threshold);
@@ -611,8 +613,9 @@ const double kFilterTol = 1e-9;
  * matters for estimation (1 % of a sigma), yet a formula error in the float code (O(1) or at
  * least O(1e-2) of a sigma) still fails. With the consistency-driven inflation active on every
  * step (its case below) the factor on Q follows the NIS, whose float error is ~2e-3: P reached
- * 3.8e-4 and the innovation variance 4.8e-4, so that case's bounds are 10x these (a formula
- * error in the factor, O(1e-1) or more of Q, still fails).
+ * 3.8e-4 and the innovation variance 4.8e-4 (5.5e-4 with the stuck-plate noise, whose factor
+ * follows the hold fraction 1 - |z| / D, a difference of nearly equal numbers in float), so that
+ * case's bounds are 15x these (a formula error in the factor, O(1e-1) or more of Q, still fails).
  */
 const double kFilterTolX = 3e-3;
 const double kFilterTolP = 2e-4;
@@ -696,7 +699,7 @@ void test_filter_current_angle_matches_reference()
         TV_CHECK(cc.nis_inflate_alpha > TV_R(0.0) && rc.nis_inflate_alpha > 0.0);
         cc.nis_inflate_threshold = TV_R(0.1);
         rc.nis_inflate_threshold = 0.1;
-        const FilterErr fe = run_filter_case("current+angle, consistency-driven inflation (threshold 0.1)", cc, rc, 10.0);
+        const FilterErr fe = run_filter_case("current+angle, consistency-driven inflation (threshold 0.1)", cc, rc, 15.0);
         printf("  predictions with an inflated Q: %ld of %d\n", fe.q_inflated, kSteps);
         TV_CHECK(fe.q_inflated > kSteps / 2);
     }

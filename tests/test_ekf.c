@@ -1558,6 +1558,67 @@ static void test_consistency_driven_inflation(void)
 }
 #endif
 
+/*
+ * Stuck-plate noise (ekf_config_t::stuck_q_min, stuck_hold_frac): a filter at rest at 0.5 rad
+ * with the default factors (0.01 from a reserve of 0.65) against the same filter with them off.
+ * The map holds the plate stuck, so F's velocity row is 0 and the angle row (0, 0, 1): what the
+ * period adds to the plate's block is Q's alone, and it is scaled by the factor. 2 V opening
+ * nearly balances the spring (hold fraction 0.9998, test_model): factor 0.01; no voltage (hold
+ * 1 - 0.2795 / 0.3 = 0.06833): 1 - 0.99 x 0.06833 / 0.65 = 0.89592. The current's variance and
+ * the mean do not change.
+ */
+static void stuck_case(double u_V, double factor)
+{
+    tvm_params_t p;
+    ekf_config_t c_off;
+    ekf_config_t c_on;
+    ekf_t f_off;
+    ekf_t f_on;
+    int a;
+    int b;
+    tvm_params_default(&p);
+    ekf_config_default(&c_on, EKF_SETUP_CURRENT_ANGLE);
+    TV_CHECK_NEAR(c_on.stuck_q_min, 0.01, 1e-7);
+    TV_CHECK_NEAR(c_on.stuck_hold_frac, 0.65, 1e-7);
+    c_on.x0[0] = TV_R(0.0);
+    c_on.x0[1] = TV_R(0.0);
+    c_on.x0[2] = TV_R(0.5);
+    for (a = 0; a < 3; ++a) {
+        for (b = 0; b < 3; ++b) {
+            c_on.P0[a][b] = TV_R(0.0);
+        }
+    }
+    c_on.P0[0][0] = TV_R(1e-4);
+    c_on.P0[1][1] = TV_R(1e-6);
+    c_on.P0[2][2] = TV_R(1e-9);
+    c_off = c_on;
+    c_off.stuck_q_min = TV_R(1.0);
+    TV_CHECK_EQ_INT(ekf_init(&f_off, &p, &c_off), TV_OK);
+    TV_CHECK_EQ_INT(ekf_init(&f_on, &p, &c_on), TV_OK);
+    TV_CHECK_EQ_INT(ekf_predict(&f_off, (tv_real_t)u_V), TV_OK);
+    TV_CHECK_EQ_INT(ekf_predict(&f_on, (tv_real_t)u_V), TV_OK);
+    TV_CHECK(f_on.x[1] == TV_R(0.0) && f_off.x[1] == TV_R(0.0)); /* held stuck */
+    printf("  stuck plate, %.0f V: P_ww %.4g (off) -> %.4g (rad/s)^2, ratio %.5f (expected %.5f)\n", u_V,
+           (double)f_off.P[1][1], (double)f_on.P[1][1], (double)f_on.P[1][1] / (double)f_off.P[1][1], factor);
+    for (a = 0; a < 3; ++a) {
+        TV_CHECK(f_on.x[a] == f_off.x[a]);
+    }
+    TV_CHECK_NEAR(f_on.P[0][0], f_off.P[0][0], fabs((double)f_off.P[0][0]) * 1e-5);
+    TV_CHECK_NEAR(f_on.P[1][1], factor * (double)f_off.P[1][1], factor * (double)f_off.P[1][1] * 2e-3);
+    TV_CHECK_NEAR(f_on.P[1][2], factor * (double)f_off.P[1][2], fabs(factor * (double)f_off.P[1][2]) * 2e-3);
+    {
+        const double add_off = (double)f_off.P[2][2] - 1e-9;
+        const double add_on = (double)f_on.P[2][2] - 1e-9;
+        TV_CHECK_NEAR(add_on, factor * add_off, fabs(factor * add_off) * 2e-2 + 1e-16);
+    }
+}
+
+static void test_stuck_plate_noise(void)
+{
+    stuck_case(2.0, 0.01);
+    stuck_case(0.0, 1.0 - 0.99 * (1.0 - 0.2795 / 0.3) / 0.65);
+}
+
 int main(int argc, char **argv)
 {
     if (argc > 1) {
@@ -1581,6 +1642,7 @@ int main(int argc, char **argv)
     TV_TEST_RUN(test_contact_inflation);
     TV_TEST_RUN(test_model_torque_noise);
     TV_TEST_RUN(test_impact_timing);
+    TV_TEST_RUN(test_stuck_plate_noise);
     TV_TEST_RUN(test_converges_from_a_wrong_initial_state);
     if (s_soak_steps > 0) {
         TV_TEST_RUN(test_covariance_stays_symmetric_positive_definite);

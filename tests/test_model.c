@@ -589,6 +589,39 @@ static void test_plate_sticks_inside_stiction_band(void)
     }
 }
 
+/* tvm_step_aug_peak()'s hold fraction (the EKF's stuck-plate noise) against the hand-worked
+ * torques of the default model at rest (Ms 0.3, M0 0.25, c 0.059 N m/rad, n Kt 0.68 N m/A, R 4.3
+ * ohm, L 2 mH): no voltage, 1 - (M0 + c phi) / Ms (0.5 rad: 0.06833; 0.3 rad: 0.10767); 2 V
+ * opening at 0.5 rad, the current after 1 ms 2 / 4.3 (1 - exp(-2.15)) = 0.41090 A (the exact
+ * armature; the map's sub-steps differ by far less than the tolerance) nearly balances the
+ * spring: 1 - |0.68 x 0.41090 - 0.2795| / 0.3 = 0.9998; beyond the stiction band (1.0 rad: 0.309 N m
+ * of spring) or moving: -1. */
+static void test_hold_fraction(void)
+{
+    const tvm_t m = make_model();
+    static const tv_real_t a0[TVM_NA] = {TV_R(0.0), TV_R(0.0), TV_R(0.0), TV_R(0.0)};
+    static const double phi[5] = {0.5, 0.3, 0.5, 1.0, 0.5};
+    static const double u[5] = {0.0, 0.0, 2.0, 0.0, 0.0};
+    static const double w[5] = {0.0, 0.0, 0.0, 0.0, 5.0};
+    const double i_2V = 2.0 / 4.3 * (1.0 - exp(-2.15));
+    const double expect[5] = {1.0 - (0.25 + 0.059 * 0.5) / 0.3, 1.0 - (0.25 + 0.059 * 0.3) / 0.3,
+                              1.0 - fabs(40.0 * 0.017 * i_2V - (0.25 + 0.059 * 0.5)) / 0.3, -1.0, -1.0};
+    int c;
+    for (c = 0; c < 5; ++c) {
+        tv_real_t x[TVM_NX];
+        tv_real_t xn[TVM_NX];
+        tv_real_t peak = TV_R(0.0);
+        tv_real_t hold = TV_R(0.0);
+        x[TVM_I] = TV_R(0.0);
+        x[TVM_W] = (tv_real_t)w[c];
+        x[TVM_PHI] = (tv_real_t)phi[c];
+        tvm_step_aug_peak(&m, x, a0, (tv_real_t)u[c], xn, NULL, NULL, 0u, &peak, &hold);
+        printf("  phi %.1f rad, w %.0f rad/s, u %.0f V: hold fraction %.5f (hand-worked %.5f)\n", phi[c], w[c], u[c], (double)hold,
+               expect[c]);
+        TV_CHECK_NEAR(hold, expect[c], 2e-3);
+    }
+}
+
 int main(void)
 {
 #if TV_REAL_IS_DOUBLE
@@ -600,5 +633,6 @@ int main(void)
 #endif
     TV_TEST_RUN(test_map_is_stable_at_1ms_with_zero_input);
     TV_TEST_RUN(test_plate_sticks_inside_stiction_band);
+    TV_TEST_RUN(test_hold_fraction);
     return tv_test_summary();
 }

@@ -150,7 +150,8 @@ static void test_consistency_monitor_rule(void)
 }
 
 /* Contact band: the contact noise is added exactly when the predicted angle is within the band
- * of a stop (P with and without differ by Qc there and are equal elsewhere). */
+ * of a stop (P with and without differ by Qc there and are equal elsewhere). The stuck-plate
+ * noise is off in both filters (it does not act in the band: test_ekf's test_stuck_plate_noise). */
 static void test_contact_band_adds_contact_noise_only_near_a_stop(void)
 {
     tvm_params_t p;
@@ -162,6 +163,7 @@ static void test_contact_band_adds_contact_noise_only_near_a_stop(void)
     int k;
     tvm_params_default(&p);
     ekf_config_default(&c0, EKF_SETUP_CURRENT_ANGLE);
+    c0.stuck_q_min = TV_R(1.0);
     c1 = c0;
     c1.contact_band_rad = TV_R(0.02);
     c1.qc_Nm2_s = TV_R(1e-3);

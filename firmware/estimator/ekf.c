@@ -210,6 +210,7 @@ void ekf_config_paper(ekf_config_t *cfg)
     cfg->qm_1_s = TV_R(0.0);
     cfg->contact_nis_gate = TV_R(0.0);
     cfg->nis_inflate_alpha = TV_R(0.0);
+    cfg->stuck_q_min = TV_R(1.0);
 }
 
 int ekf_q_from_spectral(const tvm_params_t *p, tv_real_t qu_V2_s, tv_real_t qT_Nm2_s,

@@ -230,6 +230,34 @@ Eigen::Matrix<S, 3, 1> step(const Params& p, const Eigen::Matrix<S, 3, 1>& x, do
     return xs;
 }
 
+/**
+ * How firmly static friction holds the plate over one step (tv_model.h tvm_step_aug_peak()'s
+ * hold_frac): 1 - |z| / D of the last sub-step when no sub-step slipped, else -1; z and D as
+ * substep() forms them, each sub-step from the previous one's state.
+ */
+inline double hold_fraction(const Params& p, const Eigen::Vector3d& x, double u_V)
+{
+    const double h = p.Ts_s / p.substeps;
+    const double a = std::exp(-p.R_ohm * h / p.L_H);
+    const double b = (1.0 - a) / p.R_ohm;
+    const double h_over_J = h / p.J_kg_m2;
+    Eigen::Vector3d xs = x;
+    double frac = -1.0;
+    for (int k = 0; k < p.substeps; ++k) {
+        const double i1 = a * xs(0) + b * (u_V - p.Ke_V_s_rad * p.n_gear * xs(1));
+        const double T = p.n_gear * p.Kt_Nm_A * i1 - p.M0_Nm * preload_sign(p, xs(2)) - p.c_Nm_rad * xs(2) +
+                         stop_torque<double>(p, xs(2), xs(1), nullptr);
+        const double z = xs(1) + h_over_J * T;
+        const double D = h_over_J * friction_level(p, xs(1));
+        if (std::fabs(z) > D) {
+            return -1.0;
+        }
+        frac = 1.0 - std::fabs(z) / D;
+        xs = substep<double>(p, xs, u_V);
+    }
+    return frac;
+}
+
 /** The largest |M_stop| over the sub-steps of one step, each at the sub-step's start state. */
 inline double peak_stop_torque(const Params& p, const Eigen::Vector3d& x, double u_V)
 {
@@ -329,6 +357,13 @@ struct Config {
      *  inside one) adds impact_timing (h / J M)^2 to the velocity variance, M the larger of the
      *  sub-steps' largest |M_stop| and |M_stop| at the predicted state, h = Ts / substeps. */
     double impact_timing = 0.0;
+    /** Stuck-plate noise (ekf.h ekf_config_t::stuck_q_min, stuck_hold_frac): Q's (w, phi) block
+     *  (the model-torque noise included) times 1 - (1 - stuck_q_min) min(1, hold / stuck_hold_frac)
+     *  where the step holds the plate stuck with hold fraction hold > 0 (hold_fraction()). */
+    double stuck_q_min = 1.0;
+    double stuck_hold_frac = 0.65;
+    /** ... not where the predicted angle is within this of a stop (ekf.h contact_band_rad) [rad] */
+    double stuck_band_rad = 0.005;
     /** Consistency-driven inflation (ekf.h ekf_config_t::nis_inflate_alpha ...): the mean over
      *  the used channels of each correction's NIS, each clipped at 9, low-pass with gain alpha
      *  from 1; Q of the next predictions times (average / threshold)^2 above the threshold, at
@@ -361,6 +396,9 @@ const double kDefaultQT_Nm2_s = 5.0e-6;
 const double kDefaultQTRel_s = 0.0;
 /** EKF_DEFAULT_IMPACT_TIMING (ekf.h). */
 const double kDefaultImpactTiming = 0.003;
+/** EKF_DEFAULT_STUCK_Q_MIN / EKF_DEFAULT_STUCK_HOLD_FRAC (ekf.h). */
+const double kDefaultStuckQMin = 0.01;
+const double kDefaultStuckHoldFrac = 0.65;
 /** EKF_DEFAULT_NIS_INFLATE_ALPHA / _THRESHOLD / _MAX and EKF_NIS_INFLATE_CLIP (ekf.h). */
 const double kDefaultNisInflateAlpha = 0.02;
 const double kDefaultNisInflateThreshold = 1.2;
@@ -377,6 +415,8 @@ inline Config config_default(const Params& p, Setup setup)
     c.Q = q_from_spectral(p, kDefaultQu_V2_s, kDefaultQT_Nm2_s);
     c.qT_rel_s = kDefaultQTRel_s;
     c.impact_timing = kDefaultImpactTiming;
+    c.stuck_q_min = kDefaultStuckQMin;
+    c.stuck_hold_frac = kDefaultStuckHoldFrac;
     c.nis_inflate_alpha = kDefaultNisInflateAlpha;
     c.nis_inflate_threshold = kDefaultNisInflateThreshold;
     c.nis_inflate_max = kDefaultNisInflateMax;
@@ -435,15 +475,25 @@ public:
             const double dw = p_.Ts_s / p_.substeps / p_.J_kg_m2 * m;
             q_impact = c_.impact_timing * dw * dw;
         }
-        predict_with(F, xn, c_.qT_rel_s * T * T, q_impact);
+        double q_plate = 1.0;
+        const bool in_band = xn(2) < p_.phi_closed_rad + c_.stuck_band_rad || xn(2) > p_.phi_open_rad - c_.stuck_band_rad;
+        if (c_.stuck_q_min < 1.0 && !in_band) {
+            const double hold = hold_fraction(p_, x_, u_V);
+            if (hold > 0.0) {
+                q_plate = 1.0 - (1.0 - c_.stuck_q_min) * std::min(1.0, hold / c_.stuck_hold_frac);
+            }
+        }
+        predict_with(F, xn, c_.qT_rel_s * T * T, q_impact, q_plate);
     }
 
     /** The covariance part of predict with a given F and predicted state (no model evaluation). */
     void predict_with(const Eigen::Matrix3d& F, const Eigen::Vector3d& x_pred, double q_model_Nm2_s = 0.0,
-                      double q_impact = 0.0)
+                      double q_impact = 0.0, double q_plate = 1.0)
     {
+        Eigen::Matrix3d Q = q_scale_ * c_.Q + q_from_spectral(p_, 0.0, q_model_Nm2_s);
+        Q.block<2, 2>(1, 1) *= q_plate;
         x_ = x_pred;
-        P_ = F * P_ * F.transpose() + q_scale_ * c_.Q + q_from_spectral(p_, 0.0, q_model_Nm2_s);
+        P_ = F * P_ * F.transpose() + Q;
         P_(1, 1) += q_impact;
         symmetrise();
         apply_bounds();
