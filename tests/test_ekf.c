@@ -1560,11 +1560,11 @@ static void test_consistency_driven_inflation(void)
 
 /*
  * Stuck-plate noise (ekf_config_t::stuck_q_min, stuck_hold_frac): a filter at rest at 0.5 rad
- * with the default factors (0.01 from a reserve of 0.65) against the same filter with them off.
+ * with the default factors (0.01 from a reserve of 0.8) against the same filter with them off.
  * The map holds the plate stuck, so F's velocity row is 0 and the angle row (0, 0, 1): what the
  * period adds to the plate's block is Q's alone, and it is scaled by the factor. 2 V opening
  * nearly balances the spring (hold fraction 0.9998, test_model): factor 0.01; no voltage (hold
- * 1 - 0.2795 / 0.3 = 0.06833): 1 - 0.99 x 0.06833 / 0.65 = 0.89592. The current's variance and
+ * 1 - 0.2795 / 0.3 = 0.06833): 1 - 0.99 x 0.06833 / 0.8 = 0.91543. The current's variance and
  * the mean do not change.
  */
 static void stuck_case(double u_V, double factor)
@@ -1579,7 +1579,7 @@ static void stuck_case(double u_V, double factor)
     tvm_params_default(&p);
     ekf_config_default(&c_on, EKF_SETUP_CURRENT_ANGLE);
     TV_CHECK_NEAR(c_on.stuck_q_min, 0.01, 1e-7);
-    TV_CHECK_NEAR(c_on.stuck_hold_frac, 0.65, 1e-7);
+    TV_CHECK_NEAR(c_on.stuck_hold_frac, 0.8, 1e-7);
     c_on.x0[0] = TV_R(0.0);
     c_on.x0[1] = TV_R(0.0);
     c_on.x0[2] = TV_R(0.5);
@@ -1616,7 +1616,7 @@ static void stuck_case(double u_V, double factor)
 static void test_stuck_plate_noise(void)
 {
     stuck_case(2.0, 0.01);
-    stuck_case(0.0, 1.0 - 0.99 * (1.0 - 0.2795 / 0.3) / 0.65);
+    stuck_case(0.0, 1.0 - 0.99 * (1.0 - 0.2795 / 0.3) / 0.8);
 }
 
 int main(int argc, char **argv)

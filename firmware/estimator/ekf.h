@@ -62,7 +62,7 @@ extern "C" {
 #define EKF_DEFAULT_STOP_LEARN_MARGIN_RAD TV_R(0.0)
 /** Default stuck-plate noise (ekf_config_t::stuck_q_min, stuck_hold_frac): chosen on the training units (README "Honest sigma at rest"). */
 #define EKF_DEFAULT_STUCK_Q_MIN TV_R(0.01)
-#define EKF_DEFAULT_STUCK_HOLD_FRAC TV_R(0.65)
+#define EKF_DEFAULT_STUCK_HOLD_FRAC TV_R(0.8)
 
 /** Default contact-torque state (ekf_config_t::qd_contact_Nm2_s ...): off until tuned. */
 #define EKF_DEFAULT_QD_CONTACT_NM2_S TV_R(0.0)

@@ -361,7 +361,7 @@ struct Config {
      *  (the model-torque noise included) times 1 - (1 - stuck_q_min) min(1, hold / stuck_hold_frac)
      *  where the step holds the plate stuck with hold fraction hold > 0 (hold_fraction()). */
     double stuck_q_min = 1.0;
-    double stuck_hold_frac = 0.65;
+    double stuck_hold_frac = 0.8;
     /** ... not where the predicted angle is within this of a stop (ekf.h contact_band_rad) [rad] */
     double stuck_band_rad = 0.005;
     /** Consistency-driven inflation (ekf.h ekf_config_t::nis_inflate_alpha ...): the mean over
@@ -398,7 +398,7 @@ const double kDefaultQTRel_s = 0.0;
 const double kDefaultImpactTiming = 0.003;
 /** EKF_DEFAULT_STUCK_Q_MIN / EKF_DEFAULT_STUCK_HOLD_FRAC (ekf.h). */
 const double kDefaultStuckQMin = 0.01;
-const double kDefaultStuckHoldFrac = 0.65;
+const double kDefaultStuckHoldFrac = 0.8;
 /** EKF_DEFAULT_NIS_INFLATE_ALPHA / _THRESHOLD / _MAX and EKF_NIS_INFLATE_CLIP (ekf.h). */
 const double kDefaultNisInflateAlpha = 0.02;
 const double kDefaultNisInflateThreshold = 1.2;
