@@ -344,7 +344,7 @@ static void test_winding_resistance_out_of_range(void)
 
 /* A doubled winding resistance is not a jam. At twice R the plate needs twice the model's
  * breakaway voltage, where the jam check (twice the model's breakaway) sat: it saw a plate that
- * could not move and confirmed P2112 / P2111 (safe state) besides P2101 in 8 of the fault
+ * could not move and confirmed P2112 / P2111 (safe state) besides P2101 in 9 of the fault
  * matrix's 150 such runs, these two all_varied class-b units in closed-loop steps and the 5 V
  * slow sine among them. The breakaway is now reckoned through the adapted resistance where that
  * is the larger (app.c): P2101 confirmed, no jam code. The winding at 20 degC and the application
