@@ -739,6 +739,25 @@ static void test_model_torque_noise(void)
  * law of tv_model.h along the sub-steps; a prediction that starts inside the stop or stays
  * outside adds nothing; one that enters and rebounds out within the period adds it.
  */
+/* The state (0, w0, phi0) with a converged filter's diagonal covariance (pii, pww, ppp), so that
+ * what one prediction adds is not lost in the start-up's covariance. */
+static void start_converged(ekf_config_t *c, double w0, double phi0, double pii, double pww, double ppp)
+{
+    int a;
+    int b;
+    c->x0[0] = TV_R(0.0);
+    c->x0[1] = (tv_real_t)w0;
+    c->x0[2] = (tv_real_t)phi0;
+    for (a = 0; a < 3; ++a) {
+        for (b = 0; b < 3; ++b) {
+            c->P0[a][b] = TV_R(0.0);
+        }
+    }
+    c->P0[0][0] = (tv_real_t)pii;
+    c->P0[1][1] = (tv_real_t)pww;
+    c->P0[2][2] = (tv_real_t)ppp;
+}
+
 /* |M_stop| of tv_model.h's Kelvin-Voigt law, written out */
 static double kv_stop_torque(const tvm_params_t *p, double phi, double w)
 {
@@ -766,18 +785,7 @@ static void impact_case(const tvm_params_t *p, double phi0, double w0, int expec
     int b;
     ekf_config_default(&c0, EKF_SETUP_CURRENT_ANGLE);
     c0.impact_timing = TV_R(0.0);
-    c0.x0[0] = TV_R(0.0);
-    c0.x0[1] = (tv_real_t)w0;
-    c0.x0[2] = (tv_real_t)phi0;
-    /* a converged filter's covariance, so that the addition is not lost in the start-up's */
-    for (a = 0; a < 3; ++a) {
-        for (b = 0; b < 3; ++b) {
-            c0.P0[a][b] = TV_R(0.0);
-        }
-    }
-    c0.P0[0][0] = TV_R(1e-4);
-    c0.P0[1][1] = TV_R(4e-3);
-    c0.P0[2][2] = TV_R(1e-8);
+    start_converged(&c0, w0, phi0, 1e-4, 4e-3, 1e-8);
     cg = c0;
     cg.impact_timing = (tv_real_t)g;
     TV_CHECK_EQ_INT(ekf_init(&f0, p, &c0), TV_OK);
@@ -1575,22 +1583,11 @@ static void stuck_case(double u_V, double factor)
     ekf_t f_off;
     ekf_t f_on;
     int a;
-    int b;
     tvm_params_default(&p);
     ekf_config_default(&c_on, EKF_SETUP_CURRENT_ANGLE);
     TV_CHECK_NEAR(c_on.stuck_q_min, 0.01, 1e-7);
     TV_CHECK_NEAR(c_on.stuck_hold_frac, 0.8, 1e-7);
-    c_on.x0[0] = TV_R(0.0);
-    c_on.x0[1] = TV_R(0.0);
-    c_on.x0[2] = TV_R(0.5);
-    for (a = 0; a < 3; ++a) {
-        for (b = 0; b < 3; ++b) {
-            c_on.P0[a][b] = TV_R(0.0);
-        }
-    }
-    c_on.P0[0][0] = TV_R(1e-4);
-    c_on.P0[1][1] = TV_R(1e-6);
-    c_on.P0[2][2] = TV_R(1e-9);
+    start_converged(&c_on, 0.0, 0.5, 1e-4, 1e-6, 1e-9);
     c_off = c_on;
     c_off.stuck_q_min = TV_R(1.0);
     TV_CHECK_EQ_INT(ekf_init(&f_off, &p, &c_off), TV_OK);
