@@ -689,6 +689,17 @@ void test_filter_current_angle_matches_reference()
         TV_CHECK(fe.impacts > 0);
         cc.impact_timing = EKF_DEFAULT_IMPACT_TIMING;
     }
+    /* the stuck-plate noise (off by default, in both): at its trained setting, 0.01 from a
+     * reserve of 0.8 (the experiment rests 205 samples) */
+    {
+        tvref::Config rc = tvref::config_default(p, tvref::Setup::CurrentAngle);
+        TV_CHECK(cc.stuck_q_min == TV_R(1.0) && rc.stuck_q_min == 1.0);
+        cc.qT_rel_s = TV_R(0.0);
+        cc.stuck_q_min = TV_R(0.01);
+        rc.stuck_q_min = 0.01;
+        run_filter_case("current+angle, stuck-plate noise 0.01", cc, rc);
+        cc.stuck_q_min = TV_R(1.0);
+    }
     /* the consistency-driven inflation (on by default, in both): its average NIS per channel is
      * about 0.3 on this experiment (the voltage noise of Q exceeds what the sensor shows), so
      * with the threshold at 0.1 it is active on most steps and the factor (about 10, moving with

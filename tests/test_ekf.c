@@ -1568,7 +1568,8 @@ static void test_consistency_driven_inflation(void)
 
 /*
  * Stuck-plate noise (ekf_config_t::stuck_q_min, stuck_hold_frac): a filter at rest at 0.5 rad
- * with the default factors (0.01 from a reserve of 0.8) against the same filter with them off.
+ * at its trained setting (0.01 from the default reserve of 0.8; off by default) against the
+ * same filter with it off.
  * The map holds the plate stuck, so F's velocity row is 0 and the angle row (0, 0, 1): what the
  * period adds to the plate's block is Q's alone, and it is scaled by the factor. 2 V opening
  * nearly balances the spring (hold fraction 0.9998, test_model): factor 0.01; no voltage (hold
@@ -1585,8 +1586,9 @@ static void stuck_case(double u_V, double factor)
     int a;
     tvm_params_default(&p);
     ekf_config_default(&c_on, EKF_SETUP_CURRENT_ANGLE);
-    TV_CHECK_NEAR(c_on.stuck_q_min, 0.01, 1e-7);
+    TV_CHECK_NEAR(c_on.stuck_q_min, 1.0, 0.0); /* off by default */
     TV_CHECK_NEAR(c_on.stuck_hold_frac, 0.8, 1e-7);
+    c_on.stuck_q_min = TV_R(0.01);
     start_converged(&c_on, 0.0, 0.5, 1e-4, 1e-6, 1e-9);
     c_off = c_on;
     c_off.stuck_q_min = TV_R(1.0);
@@ -1612,8 +1614,23 @@ static void stuck_case(double u_V, double factor)
 
 static void test_stuck_plate_noise(void)
 {
+    tvm_params_t p;
+    ekf_config_t c;
+    ekf_t f;
     stuck_case(2.0, 0.01);
     stuck_case(0.0, 1.0 - 0.99 * (1.0 - 0.2795 / 0.3) / 0.8);
+    /* configuration: factor in (0, 1], reserve in (0, 1] */
+    tvm_params_default(&p);
+    ekf_config_default(&c, EKF_SETUP_CURRENT_ANGLE);
+    c.stuck_q_min = TV_R(0.0);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &c), TV_ERR_CONFIG);
+    c.stuck_q_min = TV_R(1.5);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &c), TV_ERR_CONFIG);
+    c.stuck_q_min = TV_R(0.01);
+    c.stuck_hold_frac = TV_R(0.0);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &c), TV_ERR_CONFIG);
+    c.stuck_hold_frac = TV_R(1.0);
+    TV_CHECK_EQ_INT(ekf_init(&f, &p, &c), TV_OK);
 }
 
 int main(int argc, char **argv)

@@ -60,8 +60,11 @@ extern "C" {
  *  timing": why not the pick itself). */
 #define EKF_DEFAULT_IMPACT_TIMING TV_R(0.003)
 #define EKF_DEFAULT_STOP_LEARN_MARGIN_RAD TV_R(0.0)
-/** Default stuck-plate noise (ekf_config_t::stuck_q_min, stuck_hold_frac): chosen on the training units (README "Honest sigma at rest"). */
-#define EKF_DEFAULT_STUCK_Q_MIN TV_R(0.01)
+/** Default stuck-plate noise (ekf_config_t::stuck_q_min, stuck_hold_frac): off; 0.01 from a reserve of
+ *  0.8 is the setting chosen on the training units, not on by default because with it the
+ *  identified nominal unit's current gain +20 % in limp_home no longer confirms P1A04 (README
+ *  "Honest sigma at rest"). */
+#define EKF_DEFAULT_STUCK_Q_MIN TV_R(1.0)
 #define EKF_DEFAULT_STUCK_HOLD_FRAC TV_R(0.8)
 
 /** Default contact-torque state (ekf_config_t::qd_contact_Nm2_s ...): off until tuned. */

@@ -397,7 +397,7 @@ const double kDefaultQTRel_s = 0.0;
 /** EKF_DEFAULT_IMPACT_TIMING (ekf.h). */
 const double kDefaultImpactTiming = 0.003;
 /** EKF_DEFAULT_STUCK_Q_MIN / EKF_DEFAULT_STUCK_HOLD_FRAC (ekf.h). */
-const double kDefaultStuckQMin = 0.01;
+const double kDefaultStuckQMin = 1.0;
 const double kDefaultStuckHoldFrac = 0.8;
 /** EKF_DEFAULT_NIS_INFLATE_ALPHA / _THRESHOLD / _MAX and EKF_NIS_INFLATE_CLIP (ekf.h). */
 const double kDefaultNisInflateAlpha = 0.02;
