@@ -286,6 +286,43 @@ static void test_jam_and_open_winding_rules(void)
     TV_CHECK_NEAR(diag_jam_breakaway_Nm(NULL, TV_R(-4.0), TV_R(0.5), TV_R(0.3), TV_R(0.25), TV_R(0.06)), 0.58, 1e-6);
     c.jam_limp_margin_rad = TV_R(0.0);
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &c), TV_ERR_CONFIG);
+    /* the window is judged only once the push held through all of it. After a bridge-off pause
+     * (active = 0) a still plate under +4 V fails at the WINDOW-th driven call, not before; one
+     * call off restarts the count */
+    fresh_detectors(&d, &dd, &c);
+    for (k = 0; k < 20u; ++k) {
+        diag_jam_check(&dd, &d, 0, TV_R(0.54), TV_R(0.5), TV_R(0.0), TV_R(1.9), &sn);
+    }
+    for (k = 1; k < DIAG_JAM_WINDOW; ++k) {
+        diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(1.9), &sn);
+    }
+    diag_jam_check(&dd, &d, 0, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(1.9), &sn);
+    for (k = 1; k < DIAG_JAM_WINDOW; ++k) {
+        diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(1.9), &sn);
+    }
+    TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2112), 0);
+    diag_jam_check(&dd, &d, 1, TV_R(0.54), TV_R(0.5), TV_R(4.0), TV_R(1.9), &sn);
+    TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2112), 1);
+    /* a target step: the plate rests at 0.5 rad under 1 V, 0.01 rad below its target (within
+     * error: not a drive toward it), then the target steps to 0.6 under +4 V; the plate starts 2
+     * samples later at 1 mrad a sample, so the window ending at the drive's 8th sample saw 6 mrad:
+     * no failure at any sample (judged from the first sample of the drive, the window of resting
+     * angles failed once). A drive that turns (-4 V toward a target below) restarts the count */
+    fresh_detectors(&d, &dd, &c);
+    for (k = 0; k < 20u; ++k) {
+        diag_jam_check(&dd, &d, 1, TV_R(0.51), TV_R(0.5), TV_R(1.0), TV_R(1.9), &sn);
+    }
+    for (k = 1; k <= 30u; ++k) {
+        const tv_real_t phi = TV_R(0.5) + (k > 2u ? TV_R(0.001) * (tv_real_t)(k - 2u) : TV_R(0.0));
+        diag_jam_check(&dd, &d, 1, TV_R(0.6), phi, TV_R(4.0), TV_R(1.9), &sn);
+        TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2112) + diag_pending(&d, DIAG_DTC_P2111), 0);
+    }
+    for (k = 1; k < DIAG_JAM_WINDOW; ++k) {
+        diag_jam_check(&dd, &d, 1, TV_R(0.4), TV_R(0.528), TV_R(-4.0), TV_R(1.9), &sn);
+    }
+    TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2111), 0);
+    diag_jam_check(&dd, &d, 1, TV_R(0.4), TV_R(0.528), TV_R(-4.0), TV_R(1.9), &sn);
+    TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2111), 1);
     /* moving by >= 2 mrad over the window passes */
     fresh_detectors(&d, &dd, &c);
     for (k = 0; k < 100u; ++k) {

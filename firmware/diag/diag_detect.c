@@ -203,7 +203,9 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
 {
     tv_real_t oldest;
     tv_real_t e;
-    diag_dtc_t code;
+    tv_real_t ae;
+    int run;
+    int dir = 0;
     if (dd == NULL || d == NULL || snap == NULL || !TV_IS_FINITE(phi_est_rad)) {
         return;
     }
@@ -211,25 +213,42 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
     oldest = dd->hist_n >= DIAG_JAM_WINDOW ? dd->phi_hist[dd->hist_i] : phi_est_rad;
     dd->phi_hist[dd->hist_i] = phi_est_rad;
     dd->hist_i = (uint8_t)((dd->hist_i + 1u) % DIAG_JAM_WINDOW);
+    run = active && TV_IS_FINITE(target_rad) && TV_IS_FINITE(u_V) && TV_IS_FINITE(u_break_V);
+    e = run ? target_rad - phi_est_rad : TV_R(0.0);
+    ae = TV_FABS(e);
+    /* driving toward a target more than half jam_error_rad away (the half: a plate stalled near
+     * jam_error_rad from its target is not restarted by the estimate's noise): +1 opening, -1
+     * closing, 0 not (or not run). The window's motion is judged only once the drive lasted
+     * through all of it: at a target step, or when the bridge resumes after a pause, the window
+     * still holds the angles of a plate not yet driven, and a healthy plate would fail once */
+    if (u_V * e > TV_R(0.0) && ae >= TV_R(0.5) * dd->cfg.jam_error_rad) {
+        dir = e > TV_R(0.0) ? 1 : -1;
+    }
+    if (dir != dd->jam_dir) {
+        dd->jam_push_n = 0u;
+        dd->jam_dir = (int8_t)dir;
+    }
+    if (dir != 0 && dd->jam_push_n < DIAG_JAM_WINDOW) {
+        ++dd->jam_push_n;
+    }
     if (dd->hist_n < DIAG_JAM_WINDOW) {
         ++dd->hist_n;
         return;
     }
-    if (!active || !TV_IS_FINITE(target_rad) || !TV_IS_FINITE(u_V) || !TV_IS_FINITE(u_break_V)) {
+    if (!run) {
         return;
     }
-    e = target_rad - phi_est_rad;
-    if (TV_FABS(e) < dd->cfg.jam_error_rad) {
-        (void)diag_report(d, DIAG_DTC_P2111, DIAG_PASS, snap, TV_FABS(e));
-        (void)diag_report(d, DIAG_DTC_P2112, DIAG_PASS, snap, TV_FABS(e));
+    if (ae < dd->cfg.jam_error_rad) {
+        (void)diag_report(d, DIAG_DTC_P2111, DIAG_PASS, snap, ae);
+        (void)diag_report(d, DIAG_DTC_P2112, DIAG_PASS, snap, ae);
         return;
     }
-    if (!(u_V * e > TV_R(0.0)) || TV_FABS(u_V) < dd->cfg.jam_u_min_V ||
+    if (dd->jam_push_n < DIAG_JAM_WINDOW || TV_FABS(u_V) < dd->cfg.jam_u_min_V ||
         TV_FABS(u_V) < dd->cfg.jam_break_factor * TV_FABS(u_break_V)) {
-        return; /* not pushing toward the target: nothing to judge */
+        return; /* not driving toward the target (or too weakly), or not yet over the whole window */
     }
-    code = e > TV_R(0.0) ? DIAG_DTC_P2112 : DIAG_DTC_P2111;
-    (void)diag_report(d, code, TV_FABS(phi_est_rad - oldest) < dd->cfg.jam_still_rad ? DIAG_FAIL : DIAG_PASS, snap, TV_FABS(e));
+    (void)diag_report(d, dir > 0 ? DIAG_DTC_P2112 : DIAG_DTC_P2111,
+                      TV_FABS(phi_est_rad - oldest) < dd->cfg.jam_still_rad ? DIAG_FAIL : DIAG_PASS, snap, ae);
 }
 
 tv_real_t diag_jam_breakaway_Nm(const diag_detect_t *dd, tv_real_t u_V, tv_real_t phi_rad, tv_real_t Ms_Nm, tv_real_t M0_Nm,

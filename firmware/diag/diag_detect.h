@@ -20,9 +20,11 @@
  *     jam_u_min_V and at least jam_break_factor times the model's breakaway voltage u_break in the
  *     push's direction (the stall voltage whose torque equals the static friction, plus the
  *     preload and spring where they oppose the push: diag_jam_breakaway_Nm(); below it a healthy
- *     plate may rightly stay stuck), and the estimated angle moved less than jam_still_rad over the last
- *     DIAG_JAM_WINDOW samples: a failed check (P2112 when the target is above, i.e. commanded to
- *     open; P2111 below). Pushing and moving, or the target within jam_error_rad, passes.
+ *     plate may rightly stay stuck), and the estimated angle moved less than jam_still_rad over the
+ *     last DIAG_JAM_WINDOW samples, all of them driven toward the target (after a target step or a
+ *     bridge-off pause the plate gets the whole window to move): a failed check (P2112 when the target is
+ *     above, i.e. commanded to open; P2111 below). Pushing and moving, or the target within
+ *     jam_error_rad, passes.
  *   OPEN WINDING (P2100): over the period that just ended the bridge was enabled and applied
  *     |u| >= open_u_min_V with |u - e| >= open_u_min_V as well, e = n Ke w moved open_emf_allow_V
  *     toward 0 (w the estimated velocity at
@@ -470,6 +472,9 @@ typedef struct {
     tv_real_t phi_hist[DIAG_JAM_WINDOW]; /**< last estimated angles (ring) [rad] */
     uint8_t hist_n;        /**< valid entries of phi_hist */
     uint8_t hist_i;        /**< next slot of phi_hist */
+    uint8_t jam_push_n;    /**< consecutive diag_jam_check() calls driving toward a target at least jam_error_rad
+                                away, the same way, at most DIAG_JAM_WINDOW */
+    int8_t jam_dir;        /**< that drive's direction: +1 opening, -1 closing, 0 none */
     uint8_t tps_named;     /**< 0: no track named; 1 or 2: the track the vote named (kept out) */
     uint8_t param_tick;    /**< calls of diag_param_check() since its last check, 0..DIAG_PARAM_DECIM - 1 */
     uint8_t supply_tick;   /**< calls of diag_circuit_check() since its last check, 0..DIAG_SUPPLY_DECIM - 1 */
@@ -588,7 +593,10 @@ diag_tps_use_t diag_tps_vote(diag_detect_t *dd, diag_t *d, int both_in_range, tv
 
 /**
  * The jam check (see the file comment); reports P2111, P2112. Every call adds phi_est_rad to
- * the motion history; the check runs from the DIAG_JAM_WINDOW-th call on.
+ * the motion history; the check runs from the DIAG_JAM_WINDOW-th call on, and judges the motion
+ * only once the drive toward the target (the same direction, the target jam_error_rad or more
+ * away) lasted the last DIAG_JAM_WINDOW calls (a plate gets that long to move after a target step
+ * or when the bridge resumes: a healthy one needs about 2 ms).
  * @param active       1 in closed loop with the bridge driving; 0: not run
  * @param target_rad   the target in force [rad]
  * @param phi_est_rad  the estimated angle [rad]
