@@ -307,7 +307,11 @@ static void test_jam_and_open_winding_rules(void)
      * error: not a drive toward it), then the target steps to 0.6 under +4 V; the plate starts 2
      * samples later at 1 mrad a sample, so the window ending at the drive's 8th sample saw 6 mrad:
      * no failure at any sample (judged from the first sample of the drive, the window of resting
-     * angles failed once). A drive that turns (-4 V toward a target below) restarts the count */
+     * angles failed once). A drive that turns (-4 V toward a target below) restarts the count,
+     * and it waits while the plate still coasts the old way: it goes on to 0.529 and 0.530 and
+     * stays; the motion over 3 samples against the drive is 3, 3, 2 mrad (coasting: above 1.5),
+     * then 1 mrad (the count's first sample), so the 8th counted sample, the reversal's 11th, is
+     * the first failure (0 mrad over a window of driven samples at rest) */
     fresh_detectors(&d, &dd, &c);
     for (k = 0; k < 20u; ++k) {
         diag_jam_check(&dd, &d, 1, TV_R(0.51), TV_R(0.5), TV_R(1.0), TV_R(1.9), &sn);
@@ -317,11 +321,11 @@ static void test_jam_and_open_winding_rules(void)
         diag_jam_check(&dd, &d, 1, TV_R(0.6), phi, TV_R(4.0), TV_R(1.9), &sn);
         TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2112) + diag_pending(&d, DIAG_DTC_P2111), 0);
     }
-    for (k = 1; k < DIAG_JAM_WINDOW; ++k) {
-        diag_jam_check(&dd, &d, 1, TV_R(0.4), TV_R(0.528), TV_R(-4.0), TV_R(1.9), &sn);
+    for (k = 1; k <= 10u; ++k) {
+        diag_jam_check(&dd, &d, 1, TV_R(0.4), k == 1u ? TV_R(0.529) : TV_R(0.530), TV_R(-4.0), TV_R(1.9), &sn);
+        TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2111), 0);
     }
-    TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2111), 0);
-    diag_jam_check(&dd, &d, 1, TV_R(0.4), TV_R(0.528), TV_R(-4.0), TV_R(1.9), &sn);
+    diag_jam_check(&dd, &d, 1, TV_R(0.4), TV_R(0.530), TV_R(-4.0), TV_R(1.9), &sn);
     TV_CHECK_EQ_INT(diag_pending(&d, DIAG_DTC_P2111), 1);
     /* moving by >= 2 mrad over the window passes */
     fresh_detectors(&d, &dd, &c);

@@ -204,13 +204,18 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
     tv_real_t oldest;
     tv_real_t e;
     tv_real_t ae;
+    tv_real_t step;
     int run;
     int dir = 0;
     if (dd == NULL || d == NULL || snap == NULL || !TV_IS_FINITE(phi_est_rad)) {
         return;
     }
-    /* the motion history: the oldest of the last DIAG_JAM_WINDOW angles */
+    /* the motion history: the oldest of the last DIAG_JAM_WINDOW angles, and the motion over the
+     * last DIAG_JAM_COAST_N samples */
     oldest = dd->hist_n >= DIAG_JAM_WINDOW ? dd->phi_hist[dd->hist_i] : phi_est_rad;
+    step = dd->hist_n >= DIAG_JAM_COAST_N
+               ? phi_est_rad - dd->phi_hist[(dd->hist_i + DIAG_JAM_WINDOW - DIAG_JAM_COAST_N) % DIAG_JAM_WINDOW]
+               : TV_R(0.0);
     dd->phi_hist[dd->hist_i] = phi_est_rad;
     dd->hist_i = (uint8_t)((dd->hist_i + 1u) % DIAG_JAM_WINDOW);
     run = active && TV_IS_FINITE(target_rad) && TV_IS_FINITE(u_V) && TV_IS_FINITE(u_break_V);
@@ -220,8 +225,11 @@ void diag_jam_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t target_r
      * jam_error_rad from its target is not restarted by the estimate's noise): +1 opening, -1
      * closing, 0 not (or not run). The window's motion is judged only once the drive lasted
      * through all of it: at a target step, or when the bridge resumes after a pause, the window
-     * still holds the angles of a plate not yet driven, and a healthy plate would fail once */
-    if (u_V * e > TV_R(0.0) && ae >= TV_R(0.5) * dd->cfg.jam_error_rad) {
+     * still holds the angles of a plate not yet driven, and a healthy plate would fail once.
+     * Likewise while the plate still coasts against the drive (more than DIAG_JAM_COAST_RAD over
+     * the last DIAG_JAM_COAST_N samples: the voltage of an open-loop sine or chirp turns before
+     * the plate does, which goes on, turns and comes back through the same angles) */
+    if (u_V * e > TV_R(0.0) && ae >= TV_R(0.5) * dd->cfg.jam_error_rad && !(step * e < -DIAG_JAM_COAST_RAD * ae)) {
         dir = e > TV_R(0.0) ? 1 : -1;
     }
     if (dir != dd->jam_dir) {

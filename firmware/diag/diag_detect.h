@@ -22,7 +22,8 @@
  *     preload and spring where they oppose the push: diag_jam_breakaway_Nm(); below it a healthy
  *     plate may rightly stay stuck), and the estimated angle moved less than jam_still_rad over the
  *     last DIAG_JAM_WINDOW samples, all of them driven toward the target (after a target step or a
- *     bridge-off pause the plate gets the whole window to move): a failed check (P2112 when the target is
+ *     bridge-off pause the plate gets the whole window to move, and a plate still coasting against
+ *     the drive, DIAG_JAM_COAST_RAD over DIAG_JAM_COAST_N samples, gets the window from its turn): a failed check (P2112 when the target is
  *     above, i.e. commanded to open; P2111 below). Pushing and moving, or the target within
  *     jam_error_rad, passes.
  *   OPEN WINDING (P2100): over the period that just ended the bridge was enabled and applied
@@ -225,6 +226,13 @@ extern "C" {
 
 /** Samples over which the jam check measures the plate's motion (8 ms at 1 kHz). */
 #define DIAG_JAM_WINDOW 8u
+
+/** A plate whose estimated angle moved more than DIAG_JAM_COAST_RAD against the drive over the
+ * last DIAG_JAM_COAST_N samples still coasts the old way: the jam check's count of driven samples
+ * waits (1.5 mrad over 3 samples, 0.5 rad/s; a blocked plate's estimate jitters within some
+ * 0.6 mrad: the 12-bit tracks' steps and noise) [rad], [samples]. */
+#define DIAG_JAM_COAST_RAD TV_R(0.0015)
+#define DIAG_JAM_COAST_N 3u
 
 /** The adapted-mechanics check runs every this many calls of diag_param_check() (10 ms at 1 kHz). */
 #define DIAG_PARAM_DECIM 10u
