@@ -55,7 +55,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->torque_accel_max_Nm = TV_R(0.3);
     cfg->preload_fast_low = TV_R(0.5);
     cfg->friction_fast_high = TV_R(1.7);
-    cfg->away_friction_min = TV_R(0.2);
+    cfg->away_friction_min = TV_R(0.35);
     cfg->away_w_max_rad_s = TV_R(5.0);
     cfg->friction_fast_level_min = TV_R(1.3);
     cfg->preload_fast_friction_max = TV_R(2.0);

@@ -76,8 +76,8 @@
  *     the spring as modelled is (1 + f)(1 + sum(y_f) / sum(F)), y_f the unexplained torque along
  *     the friction, F the model's friction torque. With the preload at its nominal instead, the
  *     adapted share m M0 (diag_detect_set_preload()) goes back to the friction; the larger of the
- *     two readings below away_friction_min fails P1A02 (value: the reading): no unit slides on a
- *     fifth of its friction, while a spring that no longer opposes the move leaves a reading of
+ *     two readings below away_friction_min fails P1A02 (value: the reading): no healthy unit read
+ *     below 0.5 (the soak), while a spring that no longer opposes the move leaves a reading of
  *     0 or less. Judged with the signature's conditions while its newest sample is such a one.
  *   SPRING PROBE (behind P1A02, a plate that holds): the signature's samples moving toward
  *     limp-home ("closing", w < 0 above it) and those moving away from it ("opening") are also
@@ -391,9 +391,10 @@ typedef struct {
                                        closing motion alone looks like a weak spring) */
     tv_real_t away_friction_min;  /**< AWAY READING: the friction that the signature's samples moving away from
                                        limp-home alone imply, the larger of the readings with the preload as
-                                       adapted and as nominal (file comment), below this fails P1A02 [-], > 0; default 0.2 (no unit slides on a fifth
-                                       of its friction; a spring that no longer opposes the move reads 0 or
-                                       less) */
+                                       adapted and as nominal (file comment), below this fails P1A02 [-], > 0; default 0.35 (the healthy soak's
+                                       lowest reading 0.52; a spring that no longer opposes the move reads 0 or
+                                       less, and a higher bound is crossed sooner while the readings from
+                                       before the break decay: 0.2 confirmed 3 broken springs 9 ms late) */
     tv_real_t away_w_max_rad_s;   /**< ... from the samples whose estimated |velocity| is at most this [rad/s], > 0;
                                        default 5 (the viscous friction, which the reading does not model, is
                                        spread +-50 %: on class b unit 1019 in the chirp, Kv at half the
