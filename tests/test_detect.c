@@ -833,6 +833,56 @@ static void test_away_reading(void)
     }
 }
 
+/* DIAG_AWAY_STALE_CHECKS: the away reading keeps its verdict for 2 checks after its newest
+ * away sample. A spring at 30 % (a = 0.7) read on opening moves (feed_synthetic()'s first 40
+ * samples: reading 0.018) until sample `last`, then samples too fast for the reading (6 rad/s >
+ * away_w_max_rad_s: fed to the signature, collinear there, not to the away reading). Checks run
+ * at samples 9, 19, ...; the reading has its weight (30) from sample 52. Away samples to 62: the
+ * check at 59 fails with a fresh sample, 69 and 79 (1 and 2 checks stale) fail too, confirmed at
+ * 79, as with away samples throughout. Away samples to 52: 59 and 69 (stale 1, 2) fail, 79 (stale
+ * 3) is not judged: pending from 59, never confirmed (before this rule the first case stayed
+ * pending too: only a check whose newest sample was an away one judged). */
+static void test_away_stale(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    static const int last[2] = {62, 52};
+    int c;
+    diag_detect_config_default(&cfg);
+    memset(&snap, 0, sizeof snap);
+    TV_CHECK_EQ_INT((int)DIAG_AWAY_STALE_CHECKS, 2);
+    for (c = 0; c < 2; ++c) {
+        int k;
+        int pend = -1;
+        int conf = -1;
+        diag_init(&d);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        for (k = 0; k < 300; ++k) {
+            if (k <= last[c]) {
+                feed_synthetic(&dd, &d, &snap, k % 40, TV_R(0.7), TV_R(0.0), TV_R(1.0), TV_R(1.0));
+            } else {
+                snap.t_us = (uint64_t)k * 1000u;
+                diag_jam_check(&dd, &d, 0, TV_R(0.0), TV_R(0.001) * (tv_real_t)k, TV_R(0.0), TV_R(1.0), &snap);
+                diag_torque_feed(&dd, 1, TV_R(6.0), TV_R(0.7) * TV_R(0.28), TV_R(0.0), TV_R(0.28), TV_R(0.2), TV_R(0.0));
+                diag_param_check(&dd, &d, 1, TV_R(6.0), TV_R(1.0), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
+            }
+            if (pend < 0 && diag_pending(&d, DIAG_DTC_P1A02)) {
+                pend = k;
+            }
+            if (conf < 0 && diag_confirmed(&d, DIAG_DTC_P1A02)) {
+                conf = k;
+            }
+        }
+        printf("  away samples to %d: P1A02 pending at %d, confirmed at %d\n", last[c], pend, conf);
+        TV_CHECK(dd.aw_stale > DIAG_AWAY_STALE_CHECKS); /* stale since */
+        TV_CHECK(dd.preload_fast == TV_R(0.0));         /* the 2x2 signature never judged */
+        TV_CHECK_EQ_INT(pend, 59);
+        TV_CHECK_EQ_INT(conf, c == 0 ? 79 : -1);
+    }
+}
+
 /* Feeds n away-moving samples (w = +2 rad/s, the angle rising 2 mrad a sample from phi0) with
  * unexplained torque y, spring torque 0.28 N m, friction 0.2 N m. Returns the next angle. */
 static tv_real_t feed_away(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, tv_real_t phi0, int n, tv_real_t y)
@@ -2366,6 +2416,7 @@ int main(void)
     TV_TEST_RUN(test_torque_signature);
     TV_TEST_RUN(test_torque_signature_ambiguous);
     TV_TEST_RUN(test_away_reading);
+    TV_TEST_RUN(test_away_stale);
     TV_TEST_RUN(test_torque_pause);
     TV_TEST_RUN(test_friction_and_spring_codes);
     TV_TEST_RUN(test_current_sensor_check_timing);

@@ -651,6 +651,8 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         return;
     }
     dd->param_tick = 0u;
+    /* checks since one found the away reading's newest sample moving away (its verdict's age) */
+    dd->aw_stale = dd->aw_last ? 0u : (uint8_t)(dd->aw_stale + (dd->aw_stale < 0xFFu ? 1u : 0u));
     if (!active || !TV_IS_FINITE(w_rad_s) || TV_FABS(w_rad_s) < dd->cfg.param_excite_rad_s ||
         !TV_IS_FINITE(friction_rel) || !TV_IS_FINITE(preload_rel)) {
         return;
@@ -742,7 +744,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         if (slow) {
             dd->slow_m_run = preload_rel < dd->cfg.preload_low_rel ? (uint16_t)(dd->slow_m_run + (dd->slow_m_run < 0xFFFFu ? 1u : 0u)) : 0u;
         }
-        const int away = judged && dd->aw_last && dd->aw_w >= dd->cfg.torque_min_weight && dd->aw_fs > TV_R(0.0);
+        const int away = judged && dd->aw_stale <= DIAG_AWAY_STALE_CHECKS && dd->aw_w >= dd->cfg.torque_min_weight && dd->aw_fs > TV_R(0.0);
         /* the friction implied with the spring's preload as adapted, (1 + f)(1 + e_a), and as
          * nominal, which gives the adapted share m M0 back to the friction: the larger of the two
          * is judged, since the adapted 1 + m may have taken up what the friction lacks (measured:

@@ -78,7 +78,8 @@
  *     adapted share m M0 (diag_detect_set_preload()) goes back to the friction; the larger of the
  *     two readings below away_friction_min fails P1A02 (value: the reading): no healthy unit read
  *     below 0.5 (the soak), while a spring that no longer opposes the move leaves a reading of
- *     0 or less. Judged with the signature's conditions while its newest sample is such a one.
+ *     0 or less. Judged with the signature's conditions while its newest sample is such a one
+ *     and for DIAG_AWAY_STALE_CHECKS checks after.
  *   SPRING PROBE (behind P1A02, a plate that holds): the signature's samples moving toward
  *     limp-home ("closing", w < 0 above it) and those moving away from it ("opening") are also
  *     regressed on the spring alone, each direction apart. A weaker spring leaves a torque away
@@ -274,6 +275,14 @@ extern "C" {
 /** The torque signature is judged only when it was fed within this many steps (a stale
  *  signature, e.g. of the instant a plate was blocked, judges nothing). */
 #define DIAG_TORQUE_FRESH 60u
+/** The away reading is judged at the checks that find its newest sample moving away from
+ * limp-home and at this many checks after the last such (its sums as they were, the levels as
+ * adapted since): a burst of away samples too short for the confirmation's 3 failing checks
+ * still confirms (a broken spring's plate left the reading's speed range after 2 failing checks
+ * in the 5 V sine, all_varied 1004, and waited 1.07 s for the next opening). Unbounded, a
+ * healthy reading judged long after its samples, with the friction adapted since, went down to
+ * 0.45 (soak scenarios, 2,430 runs of 20 s). */
+#define DIAG_AWAY_STALE_CHECKS 2u
 /** Steps without a torque-signature sample after which the next sample first rescales the sums
  * from before (the signature's and the away reading's) to at most torque_min_weight samples:
  * evidence from before a pause (a hold, a bridge-off phase, the slow sine's reversal) no longer
@@ -524,6 +533,7 @@ typedef struct {
     tv_real_t aw_w;        /**< away reading: decayed count of the signature's samples moving away from limp-home, */
     tv_real_t aw_fy;       /**<   their unexplained torque along the friction (opposing the motion) [N m] */
     uint8_t aw_last;       /**< 1 when the signature's newest sample was one of them */
+    uint8_t aw_stale;      /**< checks (every DIAG_PARAM_DECIM steps) since one found aw_last set (saturating) */
     diag_spring_reading_t pc; /**< spring probe: the signature's samples toward limp-home */
     diag_spring_reading_t po; /**< spring probe: its samples away from limp-home */
     tv_real_t probe_phi0;  /**< the angle at the probe's start [rad] */
