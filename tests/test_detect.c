@@ -898,7 +898,8 @@ static tv_real_t feed_away(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, 
 /* DIAG_TORQUE_PAUSE: 300 healthy away-moving steps (fed from the 8th: weight 50 (1 - 0.98^293) = 49.9), then
  * the feed pauses. After DIAG_TORQUE_PAUSE + 1 steps without a sample, the next sample first
  * scales the sums from before to torque_min_weight (30) samples, keeping their ratios: weight
- * 30 x 0.98 + 1 = 30.4 in the signature's and the away reading's sums, the away friction sum 0.2
+ * 30 x 0.98 + 1 = 30.4 in the signature's and the away reading's sums (the spring probe's
+ * opening reading to probe_min_weight: 8 x 0.98 + 1 = 8.84), the away friction sum 0.2
  * per sample; after a pause of exactly DIAG_TORQUE_PAUSE steps nothing is rescaled (weight
  * 0.98 x 49.9 + 1). A broken spring's samples (y = +0.28 along the motion: the spring torque the
  * model opposes the move with is gone) then bring the away reading 1 + sum(-y) / sum(F) below
@@ -940,6 +941,11 @@ static void test_torque_pause(void)
         TV_CHECK_NEAR(dd.aw_w, long_pause ? 30.0 * 0.98 + 1.0 : 0.98 * w0 + 1.0, 1e-3);
         TV_CHECK_NEAR(dd.tq_w, long_pause ? 30.0 * 0.98 + 1.0 : 0.98 * w0 + 1.0, 1e-3);
         TV_CHECK_NEAR(dd.aw_fs, TV_R(0.2) * dd.aw_w, 1e-4);
+        /* the spring probe's opening reading (these samples move away from limp-home): rescaled
+         * to probe_min_weight (8), its spring sums with it (s = 0.28 in every sample) */
+        TV_CHECK_NEAR(dd.po.w, long_pause ? 8.0 * 0.98 + 1.0 : 0.98 * w0 + 1.0, 1e-3);
+        TV_CHECK_NEAR(dd.po.ss, TV_R(0.28) * TV_R(0.28) * dd.po.w, 1e-4);
+        TV_CHECK(dd.pc.w == TV_R(0.0));
         /* the away reading with the model's levels (1 + f = 1 + m = 1) */
         n = 1;
         while (!(TV_R(1.0) + dd.aw_fy / dd.aw_fs < cfg.away_friction_min) && n < 200) {

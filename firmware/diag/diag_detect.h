@@ -284,7 +284,8 @@ extern "C" {
  * 0.45 (soak scenarios, 2,430 runs of 20 s). */
 #define DIAG_AWAY_STALE_CHECKS 2u
 /** Steps without a torque-signature sample after which the next sample first rescales the sums
- * from before (the signature's and the away reading's) to at most torque_min_weight samples:
+ * from before (the signature's and the away reading's) to at most torque_min_weight samples, and
+ * the spring probe's two readings to at most probe_min_weight:
  * evidence from before a pause (a hold, a bridge-off phase, the slow sine's reversal) no longer
  * outweighs what the plate does now. */
 #define DIAG_TORQUE_PAUSE 250u
