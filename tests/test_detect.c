@@ -743,6 +743,17 @@ static void test_torque_signature_ambiguous(void)
     }
 }
 
+/* Records the sample k at which P1A02 is first pending and first confirmed (-1 until then). */
+static void first_p1a02(const diag_t *d, int k, int *pend, int *conf)
+{
+    if (*pend < 0 && diag_pending(d, DIAG_DTC_P1A02)) {
+        *pend = k;
+    }
+    if (*conf < 0 && diag_confirmed(d, DIAG_DTC_P1A02)) {
+        *conf = k;
+    }
+}
+
 /* Opening moves alone (feed_synthetic()'s first 40 samples of each 80: w = +2 rad/s at phi =
  * 0.5..0.54 rad, moving away from limp-home) with a spring deficit a: spring and friction both
  * oppose the move, so the signature cannot split them; the AWAY READING takes the friction they
@@ -786,12 +797,7 @@ static void test_away_reading(void)
         for (k = 0; k < 2000; ++k) {
             feed_synthetic(&dd, &d, &snap, k % 40, (tv_real_t)cases[c].a, TV_R(0.0), (tv_real_t)cases[c].pre_rel,
                            (tv_real_t)cases[c].fr_rel);
-            if (pend < 0 && diag_pending(&d, DIAG_DTC_P1A02)) {
-                pend = k;
-            }
-            if (conf < 0 && diag_confirmed(&d, DIAG_DTC_P1A02)) {
-                conf = k;
-            }
+            first_p1a02(&d, k, &pend, &conf);
         }
         TV_CHECK(dd.preload_fast == TV_R(0.0)); /* the 2x2 signature never judged: collinear */
         if (cases[c].fails_at > 0.0) {
@@ -868,12 +874,7 @@ static void test_away_stale(void)
                 diag_torque_feed(&dd, 1, TV_R(6.0), TV_R(0.7) * TV_R(0.28), TV_R(0.0), TV_R(0.28), TV_R(0.2), TV_R(0.0));
                 diag_param_check(&dd, &d, 1, TV_R(6.0), TV_R(1.0), TV_R(0.02), TV_R(1.0), TV_R(0.01), &snap);
             }
-            if (pend < 0 && diag_pending(&d, DIAG_DTC_P1A02)) {
-                pend = k;
-            }
-            if (conf < 0 && diag_confirmed(&d, DIAG_DTC_P1A02)) {
-                conf = k;
-            }
+            first_p1a02(&d, k, &pend, &conf);
         }
         printf("  away samples to %d: P1A02 pending at %d, confirmed at %d\n", last[c], pend, conf);
         TV_CHECK(dd.aw_stale > DIAG_AWAY_STALE_CHECKS); /* stale since */
