@@ -503,14 +503,15 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
     }
 }
 
-/* A spring probe reading's sums scaled to at most wmax samples (their ratio a kept). */
-static void reading_rescale(diag_spring_reading_t *r, tv_real_t wmax)
+/* A decayed sample count w and two sums over the same samples scaled to at most wmax samples
+ * (their ratios kept): the away reading's and each spring probe reading's. */
+static void sums_rescale(tv_real_t *w, tv_real_t *s1, tv_real_t *s2, tv_real_t wmax)
 {
-    if (r->w > wmax) {
-        const tv_real_t g = wmax / r->w;
-        r->w = wmax;
-        r->ss *= g;
-        r->sy *= g;
+    if (*w > wmax) {
+        const tv_real_t g = wmax / *w;
+        *w = wmax;
+        *s1 *= g;
+        *s2 *= g;
     }
 }
 
@@ -532,14 +533,9 @@ static void torque_pause_rescale(diag_detect_t *dd)
         dd->tq_sy *= g;
         dd->tq_fy *= g;
     }
-    if (dd->aw_w > wmin) {
-        const tv_real_t g = wmin / dd->aw_w;
-        dd->aw_w = wmin;
-        dd->aw_fs *= g;
-        dd->aw_fy *= g;
-    }
-    reading_rescale(&dd->pc, dd->cfg.probe_min_weight);
-    reading_rescale(&dd->po, dd->cfg.probe_min_weight);
+    sums_rescale(&dd->aw_w, &dd->aw_fs, &dd->aw_fy, wmin);
+    sums_rescale(&dd->pc.w, &dd->pc.ss, &dd->pc.sy, dd->cfg.probe_min_weight);
+    sums_rescale(&dd->po.w, &dd->po.ss, &dd->po.sy, dd->cfg.probe_min_weight);
 }
 
 /* The estimated angle's motion over the jam check's window (the newest entry is this step's,
