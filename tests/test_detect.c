@@ -2266,6 +2266,20 @@ static void test_offset_signature(void)
     /* a friction above its range (1.2 > 1.15: a sticky plate's drag) is not the sensor */
     TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.2), TV_R(1.2), TV_R(0.95), 60, 0, &d), 0);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+    /* the preload up (1.05) with the friction as it was and R as it was (class b's holding
+     * currents hide +50 mA in R): P1A04 at the 35th, with the temperature known or not (no
+     * fault raises a spring); both gave 0 before the reading without R */
+    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.0), TV_R(1.0), TV_R(1.05), 60, 0, &d), 35);
+    TV_CHECK_EQ_INT(offset_case(1, 0, TV_R(1.0), TV_R(1.0), TV_R(1.05), 60, 0, &d), 35);
+    /* ... but not with R read high (1.2: the sensor would read too little, not too much; P2101),
+     * not on the low side with R as it was (0.95: a fatigued spring reads the same), not on the
+     * class's bounds */
+    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.2), TV_R(1.0), TV_R(1.05), 60, 0, &d), 0);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04) && diag_confirmed(&d, DIAG_DTC_P2101));
+    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.0), TV_R(1.0), TV_R(0.95), 60, 0, &d), 0);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+    TV_CHECK_EQ_INT(offset_case(0, 1, TV_R(1.0), TV_R(1.0), TV_R(1.05), 60, 0, &d), 0);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
 }
 
 /* One 12 s closed-loop driving run (seed 1) of the identified nominal unit (the nominal plant
@@ -2278,24 +2292,32 @@ static void identified_run(const char *fault, sim_result_t *r)
     identified_run_in(fault, SIM_SCN_DRIVE, r);
 }
 
+/* One 12 s run (seed 1) of plant pc under ac with FAULT (NULL: healthy) from its onset, the
+ * application told the winding's temperature (the plant's), as in the fault matrix. */
+static void told_run(const plant_config_t *pc, const app_config_t *ac, const char *fault, sim_scenario_t scenario,
+                     sim_result_t *r)
+{
+    sim_options_t opt;
+    sim_options_default(&opt);
+    opt.duration_s = 12.0;
+    opt.scenario = scenario;
+    opt.seed = 1u;
+    opt.plant = pc;
+    opt.app = ac;
+    opt.temp_reading = 1;
+    opt.temp_reading_C = opt.winding_temp_C;
+    sim_fault_run_opt(&opt, fault, r);
+}
+
 /* identified_run() in another scenario */
 static void identified_run_in(const char *fault, sim_scenario_t scenario, sim_result_t *r)
 {
     static plant_config_t pc;
     static app_config_t ac;
-    sim_options_t opt;
     plant_config_default(&pc);
     app_config_default(&ac);
     diag_detect_config_identified(&ac.diag);
-    sim_options_default(&opt);
-    opt.duration_s = 12.0;
-    opt.scenario = scenario;
-    opt.seed = 1u;
-    opt.plant = &pc;
-    opt.app = &ac;
-    opt.temp_reading = 1;
-    opt.temp_reading_C = opt.winding_temp_C;
-    sim_fault_run_opt(&opt, fault, r);
+    told_run(&pc, &ac, fault, scenario, r);
 }
 
 /* identified_run() of each of the n faults: each confirms P1A04 within 10 s of the onset and
@@ -2327,6 +2349,41 @@ static void test_current_offset_identified(void)
     static const char *const fault[3] = {"current_offset:-0.1@1.0", "current_offset:0.1@1.0", "current_gain:-10@1.0"};
     identified_case(fault, 3, DIAG_DTC_P2101, "winding_resistance_high:2@1.0", DIAG_DTC_P2101,
                     "current offset -0.1 / +0.1 A, gain -10 %");
+}
+
+/* The same on class b's nominal unit with its own model (an identified class b unit):
+ * closed-loop steps, +50 mA and +100 mA from 1.0 s. Its holding currents (about 1 A) move the
+ * apparent resistance by only 1 - 3 %, inside gain_r_max's margin, while the adapted preload
+ * reads 1.04: before the reading without R neither confirmed a code in 12 s (the fault matrix's
+ * identified class b units in closed-loop steps, 30 s: 0 of 3 at +50 mA). Both confirm P1A04
+ * within 10 s and nothing else; healthy, nothing is confirmed or pending. */
+static void test_current_offset_identified_class_b(void)
+{
+    static const char *const fault[3] = {"current_offset:0.05@1.0", "current_offset:0.1@1.0", NULL};
+    static plant_config_t pc;
+    static app_config_t ac;
+    sim_result_t r;
+    int k;
+    int c;
+    TV_CHECK_EQ_INT(plant_class_nominal(PLANT_CLASS_B, &pc), TV_OK);
+    TV_CHECK_EQ_INT(sim_app_config_for_unit(PLANT_CLASS_B, &pc, &ac), TV_OK);
+    diag_detect_config_identified(&ac.diag);
+    for (k = 0; k < 3; ++k) {
+        told_run(&pc, &ac, fault[k], SIM_SCN_CLOSED_STEPS, &r);
+        for (c = 0; c < (int)DIAG_DTC_COUNT; ++c) {
+            if (fault[k] == NULL) {
+                TV_CHECK(!sim_dtc_ever(&r, (diag_dtc_t)c));
+            } else if (c != (int)DIAG_DTC_P1A04) {
+                TV_CHECK(!isfinite(r.dtc_confirm_t_s[c]));
+            }
+        }
+        if (fault[k] != NULL) {
+            TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]));
+            TV_CHECK_LE(r.dtc_confirm_t_s[DIAG_DTC_P1A04] - 1.0, 10.0);
+            printf("  identified class b, closed-loop steps: %s: P1A04 %.2f s after the onset\n", fault[k],
+                   r.dtc_confirm_t_s[DIAG_DTC_P1A04] - 1.0);
+        }
+    }
 }
 
 /* 20 % of the turns shorted on the identified unit, identified_run(): P1A01 confirmed (by the
@@ -2443,6 +2500,7 @@ int main(void)
     TV_TEST_RUN(test_winding_short_20_identified);
     TV_TEST_RUN(test_offset_signature);
     TV_TEST_RUN(test_current_offset_identified);
+    TV_TEST_RUN(test_current_offset_identified_class_b);
     TV_TEST_RUN(test_no_code_confirmed_on_healthy_units);
     return tv_test_summary();
 }

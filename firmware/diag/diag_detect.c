@@ -639,6 +639,15 @@ static int mechanics_inhibited(const diag_t *d)
     return any_active(d, related, sizeof related / sizeof related[0]);
 }
 
+/* 1 when a mechanics code (P1A02 spring, P2119 friction) is pending or confirmed: the offset
+ * signature's reading without the resistance is then not judged (the adapted levels are then
+ * another fault's). */
+static int mechanics_coded(const diag_t *d)
+{
+    static const diag_dtc_t related[] = {DIAG_DTC_P1A02, DIAG_DTC_P2119};
+    return any_active(d, related, sizeof related / sizeof related[0]);
+}
+
 /* 1 when an open winding or a jam (P2100, P2111, P2112) is pending or confirmed: the
  * motor-constant signature is then not judged. */
 static int motor_or_jam(const diag_t *d)
@@ -693,12 +702,20 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
                                                   (friction_rel < dd->cfg.isens_sig_friction_low &&
                                                    TV_R(1.0) - friction_rel > dd->r_ratio - TV_R(1.0))) ? 1u : 0u;
         }
-        /* (a level low with the friction in its healthy range: a jam's drag, far above, is no
-         * sensor) */
-        offset_sig = m_ok && !motor_or_jam(d) &&
+        /* Three readings: R high with a level low and the friction in its healthy range (a
+         * jam's drag, far above, is no sensor); R low with the preload up and the friction as it
+         * was; or the preload up with the friction as it was and R not high, whatever R reads
+         * lower: no fault raises a spring, and class b's larger holding currents move R by
+         * i / (i + b) only 1 - 3 % for +50 mA, inside gain_r_max's margin, while the preload
+         * reads 1.04 (healthy identified units: 1 + m 0.977 - 1.007 over the soak's 810 runs of
+         * 70 s, none above 1.025 for 5 checks in a row). Not on the low side: there a preload
+         * 2.5 - 30 % low with R as it was is also a fatigued spring. The R-free reading waits
+         * while a mechanics code is pending or confirmed. The identified flag first: every term but it needs
+         * one, and a class model then pays one test (the Cortex-M4F budget). */
+        offset_sig = dd->cfg.identified && m_ok && !motor_or_jam(d) &&
                      ((dd->r_high && dd->mech_low && f_ok && friction_rel <= dd->cfg.friction_high_rel) ||
-                      (dd->r_low && f_ok && preload_rel > dd->cfg.gain_mech_min && friction_rel < dd->cfg.gain_mech_min &&
-                       friction_rel * dd->cfg.gain_mech_min > TV_R(1.0)));
+                      (f_ok && friction_rel < dd->cfg.gain_mech_min && friction_rel * dd->cfg.gain_mech_min > TV_R(1.0) &&
+                       preload_rel > dd->cfg.gain_mech_min && (dd->r_low || (!dd->r_high && !mechanics_coded(d)))));
         dd->offset_sig_n = offset_sig ? (uint16_t)(dd->offset_sig_n + (dd->offset_sig_n < 0xFFFFu ? 1u : 0u)) : 0u;
         if (dd->offset_sig_n >= dd->cfg.isens_sig_checks) {
             (void)diag_report(d, DIAG_DTC_P1A04, DIAG_FAIL, snap, dd->r_ratio);

@@ -205,9 +205,13 @@
  *     1 / gain_mech_min or 1 + f below isens_sig_friction_low with a deficit larger than R's
  *     excess, 1 + f within its healthy range (friction_high_rel: a jam's drag, far above, is not
  *     the sensor; a gain below 1 lowers both levels, and in the 12 V sine the friction alone), or
- *     below gain_r_max with 1 + m
- *     above gain_mech_min and 1 + f within 1 / gain_mech_min ... gain_mech_min (a gain above 1 and
- *     shorted turns raise the friction with the preload: the motor-constant signature's case);
+ *     1 + m above gain_mech_min and 1 + f within 1 / gain_mech_min ... gain_mech_min (a gain
+ *     above 1 and shorted turns raise the friction with the preload: the motor-constant
+ *     signature's case) with the apparent resistance below gain_r_max, or not above
+ *     1 / gain_r_max while no P1A02 or P2119 is pending or confirmed (no fault raises a spring,
+ *     and on class b's larger holding currents +50 mA moves R by only 1 - 3 %: README "The
+ *     preload up without the resistance"; the low side keeps its resistance term, a preload a
+ *     few per cent low with R as it was being also a fatigued spring);
  *     their sigmas within the mechanics checks' bounds, no open winding or jam code. While 1 + m
  *     or 1 + f reads that low with the temperature known, P2101 is not failed (no verdict).
  *
