@@ -710,8 +710,8 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
          * reads 1.04 (healthy identified units: 1 + m 0.977 - 1.007 over the soak's 810 runs of
          * 70 s, none above 1.025 for 5 checks in a row). Not on the low side: there a preload
          * 2.5 - 30 % low with R as it was is also a fatigued spring. The R-free reading waits
-         * while a mechanics code is pending or confirmed. The identified flag first: every term but it needs
-         * one, and a class model then pays one test (the Cortex-M4F budget). */
+         * while a mechanics code is pending or confirmed. The identified flag first: every term
+         * but it needs one, and a class model then pays one test (the Cortex-M4F budget). */
         offset_sig = dd->cfg.identified && m_ok && !motor_or_jam(d) &&
                      ((dd->r_high && dd->mech_low && f_ok && friction_rel <= dd->cfg.friction_high_rel) ||
                       (f_ok && friction_rel < dd->cfg.gain_mech_min && friction_rel * dd->cfg.gain_mech_min > TV_R(1.0) &&
