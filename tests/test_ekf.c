@@ -83,18 +83,6 @@ static double run_sine(const tvm_t *truth, ekf_t *f, double xt[3], long n, doubl
     return n > 0 ? sqrt(werr / (double)(n - from)) : 0.0;
 }
 
-/* n steps of the paper's input, 12 V at 5 Hz, truth and filter (correct_noisy()). */
-static void run_paper_sine(const tvm_t *truth, ekf_t *f, double xt[3], long n)
-{
-    long k;
-    for (k = 0; k < n; ++k) {
-        const double u = 12.0 * sin(2.0 * PI_D * 5.0 * (double)k * 1e-3);
-        tvm_step(truth, xt, u, xt, NULL);
-        TV_CHECK_EQ_INT(ekf_predict(f, u), TV_OK);
-        correct_noisy(f, xt);
-    }
-}
-
 /*
  * The augmented states (contact torque d, resistance error dR, friction error f, preload error
  * m): (1) one predict, one current and one angle update of the augmented filter against the same
@@ -402,41 +390,6 @@ static void test_resistance_error_state(void)
     /* a bound so large that the explicit step could lose stability is refused */
     cfg.dr_abs_max_ohm = 1e3;
     TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
-    /* (4) the velocity gate (ekf_config_t::dr_w_max_rad_s): a truth whose R is the model's and
-     * whose motor constant (Ke = Kt) is 10 % above it, driven by the paper's 12 V 5 Hz sine (the
-     * plate swings at up to ~20 rad/s): with the gate (5 rad/s, the default) dR stays near
-     * 0, the winding's true error; without it (500 rad/s) the back-EMF's error (0.1 Ke w) is
-     * taken for a resistance error */
-    {
-        double dr_gate;
-        double dr_open;
-        double s_gate;
-        double s_open;
-        pt = p;
-        pt.Ke_V_s_rad = (tv_real_t)(1.1 * p.Ke_V_s_rad);
-        pt.Kt_Nm_A = (tv_real_t)(1.1 * p.Kt_Nm_A);
-        TV_CHECK_EQ_INT(tvm_init(&truth, &pt), TV_OK);
-        ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
-        cfg.qr_ohm2_s = 1e-3;
-        TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
-        xt[0] = xt[1] = xt[2] = 0.0;
-        run_paper_sine(&truth, &f, xt, 5000);
-        ekf_resistance_error(&f, &dr_gate, &s_gate);
-        cfg.dr_w_max_rad_s = 500.0;
-        TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_OK);
-        xt[0] = xt[1] = xt[2] = 0.0;
-        run_paper_sine(&truth, &f, xt, 5000);
-        ekf_resistance_error(&f, &dr_open, &s_open);
-        printf("  Ke = Kt 10 %% above the model, R exact, 12 V 5 Hz sine: dR %.4f +- %.4f ohm with the velocity gate, "
-               "%.4f +- %.4f without\n", dr_gate, s_gate, dr_open, s_open);
-        TV_CHECK_LE(fabs(dr_gate), 0.04 * (double)p.R_ohm);
-        TV_CHECK(fabs(dr_open) >= 0.1 * (double)p.R_ohm);
-        /* a gate of 0 (dR never updated) is refused, and a non-finite one */
-        cfg.dr_w_max_rad_s = 0.0;
-        TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_CONFIG);
-        cfg.dr_w_max_rad_s = (tv_real_t)NAN;
-        TV_CHECK_EQ_INT(ekf_init(&f, &p, &cfg), TV_ERR_NONFINITE);
-    }
 }
 /*
  * The relative friction error f (ekf_config_t::qf_1_s): (1) on a truth whose Coulomb and static

@@ -166,7 +166,6 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->r_sigma0_ohm = EKF_DEFAULT_R_SIGMA0_OHM;
     cfg->dr_abs_max_ohm = EKF_DEFAULT_DR_ABS_MAX_OHM;
     cfg->dr_excite_A = EKF_DEFAULT_DR_EXCITE_A;
-    cfg->dr_w_max_rad_s = EKF_DEFAULT_DR_W_MAX_RAD_S;
     cfg->qf_1_s = EKF_DEFAULT_QF_1_S;
     cfg->f_sigma0 = EKF_DEFAULT_F_SIGMA0;
     cfg->f_abs_max = EKF_DEFAULT_F_ABS_MAX;
@@ -264,7 +263,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->qd_free_Nm2_s) || !TV_IS_FINITE(cfg->d_tau_s) || !TV_IS_FINITE(cfg->d_var_ceil) ||
         !TV_IS_FINITE(cfg->contact_nis_gate) || !TV_IS_FINITE(cfg->contact_w_coupling) || !TV_IS_FINITE(cfg->qr_ohm2_s) ||
         !TV_IS_FINITE(cfg->r_sigma0_ohm) || !TV_IS_FINITE(cfg->dr_abs_max_ohm) ||
-        !TV_IS_FINITE(cfg->dr_excite_A) || !TV_IS_FINITE(cfg->dr_w_max_rad_s) || !TV_IS_FINITE(cfg->qf_1_s) || !TV_IS_FINITE(cfg->f_sigma0) ||
+        !TV_IS_FINITE(cfg->dr_excite_A) || !TV_IS_FINITE(cfg->qf_1_s) || !TV_IS_FINITE(cfg->f_sigma0) ||
         !TV_IS_FINITE(cfg->f_abs_max) || !TV_IS_FINITE(cfg->f_excite_rad_s) || !TV_IS_FINITE(cfg->qm_1_s) ||
         !TV_IS_FINITE(cfg->m_sigma0) || !TV_IS_FINITE(cfg->m_abs_max) || !TV_IS_FINITE(cfg->nis_inflate_alpha) ||
         !TV_IS_FINITE(cfg->nis_inflate_threshold) || !TV_IS_FINITE(cfg->nis_inflate_max) ||
@@ -293,7 +292,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !(cfg->d_var_ceil > TV_R(0.0)) || cfg->contact_nis_gate < TV_R(0.0) || cfg->contact_w_coupling < TV_R(0.0) ||
         cfg->contact_w_coupling > TV_R(1.0) || cfg->qr_ohm2_s < TV_R(0.0) ||
         cfg->r_sigma0_ohm < TV_R(0.0) || !(cfg->dr_abs_max_ohm > TV_R(0.0)) ||
-        cfg->dr_excite_A < TV_R(0.0) || !(cfg->dr_w_max_rad_s > TV_R(0.0)) || cfg->qf_1_s < TV_R(0.0) || cfg->f_sigma0 < TV_R(0.0) ||
+        cfg->dr_excite_A < TV_R(0.0) || cfg->qf_1_s < TV_R(0.0) || cfg->f_sigma0 < TV_R(0.0) ||
         !(cfg->f_abs_max > TV_R(0.0) && cfg->f_abs_max < TV_R(1.0)) || cfg->f_excite_rad_s < TV_R(0.0) ||
         cfg->qm_1_s < TV_R(0.0) || cfg->m_sigma0 < TV_R(0.0) || !(cfg->m_abs_max > TV_R(0.0) && cfg->m_abs_max < TV_R(1.0)) ||
         cfg->nis_inflate_alpha < TV_R(0.0) || cfg->nis_inflate_alpha > TV_R(1.0) || !(cfg->nis_inflate_threshold > TV_R(0.0)) ||
@@ -870,11 +869,10 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
     /* dR is observed through the voltage dR i: frozen while the current is small, predicted or
      * measured (a prediction the measurement contradicts, e.g. a current the held input drives
      * through an open bridge when the plate reverses at a stop, is the input's error, not the
-     * winding's), and in fast motion (|w| > dr_w_max_rad_s: there the current's innovation
-     * carries the back-EMF constant's error); the friction error through the sliding plate:
-     * frozen while it (nearly) sticks, and in the contact band, where the innovations are the
-     * contact law's errors, not friction's */
-    frozen = (TV_FABS(x[TVM_I]) < ekf->cfg.dr_excite_A || TV_FABS(x[TVM_W]) > ekf->cfg.dr_w_max_rad_s ||
+     * winding's); the friction error through the sliding plate: frozen while it (nearly)
+     * sticks, and in the contact band, where the innovations are the contact law's errors, not
+     * friction's */
+    frozen = (TV_FABS(x[TVM_I]) < ekf->cfg.dr_excite_A ||
                       (use[EKF_CH_CURRENT] && TV_FABS(meas->z[EKF_CH_CURRENT]) < ekf->cfg.dr_excite_A)
                   ? 1u << TVM_A_DR
                   : 0u) |

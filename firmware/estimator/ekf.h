@@ -78,7 +78,6 @@ extern "C" {
 #define EKF_DEFAULT_R_SIGMA0_OHM TV_R(0.5)
 #define EKF_DEFAULT_DR_ABS_MAX_OHM TV_R(3.0)
 #define EKF_DEFAULT_DR_EXCITE_A TV_R(0.2)
-#define EKF_DEFAULT_DR_W_MAX_RAD_S TV_R(5.0)
 
 /** Default relative friction error state (ekf_config_t::qf_1_s ...): density, initial sigma,
  *  bound, excitation speed. The density is the largest of 1e-4 / 1e-3 / 1e-2 that keeps the
@@ -225,14 +224,6 @@ typedef struct {
      * does not carry (the open bridge at a stop's impact).
      */
     tv_real_t dr_excite_A;
-    /**
-     * dR is updated only while the velocity estimate's magnitude is at most this [rad/s], > 0
-     * (beyond it a Schmidt update as above): in fast motion the current's innovations carry the
-     * back-EMF term's error (Ke - Ke_model) w, which a unit whose Ke is not the model's would put
-     * into dR as a resistance error (on all_varied units up to 15 % of R in the 12 V sine; README
-     * "Resistance adaptation": the velocity gate).
-     */
-    tv_real_t dr_w_max_rad_s;
     /**
      * Relative friction error f (README "Friction adaptation"): a state [-] that scales the
      * model's Coulomb friction and adds the same torque f Mc to its static friction (level

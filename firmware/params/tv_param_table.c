@@ -58,7 +58,6 @@ static const tvp_desc_t s_table[TVP_COUNT] = {
     {"ekf.r_sigma0_ohm", "ohm", 0.0, 100.0, 0u, "winding-resistance error state: initial standard deviation"},
     {"ekf.dr_abs_max_ohm", "ohm", 0.0, 100.0, TVP_LO_OPEN, "winding-resistance error state: bound on its magnitude"},
     {"ekf.dr_excite_A", "A", 0.0, 50.0, 0u, "winding-resistance error state: updated only while |current| is at least this"},
-    {"ekf.dr_w_max_rad_s", "rad/s", 0.0, 500.0, TVP_LO_OPEN, "winding-resistance error state: updated only while |velocity| is at most this (the back-EMF's error)"},
     {"ekf.qf_1_s", "1/s", 0.0, 100.0, 0u, "relative friction error state: random-walk density (0 = no such state)"},
     {"ekf.f_sigma0", "-", 0.0, 10.0, 0u, "relative friction error state: initial standard deviation"},
     {"ekf.f_abs_max", "-", 0.0, 1.0, TVP_LO_OPEN | TVP_HI_OPEN, "relative friction error state: bound on its magnitude"},

@@ -62,7 +62,6 @@ typedef enum {
     TVP_EKF_R_SIGMA0_OHM,
     TVP_EKF_DR_ABS_MAX_OHM,
     TVP_EKF_DR_EXCITE_A,
-    TVP_EKF_DR_W_MAX_RAD_S,
     TVP_EKF_QF_1_S,
     TVP_EKF_F_SIGMA0,
     TVP_EKF_F_ABS_MAX,
