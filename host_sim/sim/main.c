@@ -108,7 +108,7 @@ static void usage(FILE *f)
 {
     int k;
     fprintf(f,
-            "usage: %s [--scenario NAME] [--duration S] [--seed N] [--mc N] [--setup 2|3]\n"
+            "usage: %s [--scenario NAME] [--duration S] [--warmup S] [--seed N] [--mc N] [--setup 2|3]\n"
             "          [--qu X] [--qT X] [--r-current X] [--r-angle X] [--r-velocity X]\n"
             "          [--pwm-ripple] [--drop-every N] [--out DIR] [--params FILE] [--params-out FILE] [--print-params]\n"
             "          [--raw-log PATH [--raw-format csv|bin]] [--plant-params FILE] [--print-plant-params]\n"
@@ -128,6 +128,12 @@ static void usage(FILE *f)
     fprintf(f,
             ""
             "  --duration S      simulated time [s], 0 < S <= %g (default: the scenario's)\n"
+            "  --warmup S        first run S s of normal excitation (a 6 V, 1 Hz open-loop sine),\n"
+            "                    0 <= S <= 60 (default 0), then the scenario, whose time and\n"
+            "                    scoring count from its start (--fault onsets and the CSV's t_s\n"
+            "                    from the run's); population's all_varied_adapted runs are\n"
+            "                    --warmup 5. Not with stuck_release or stop_learn, which start\n"
+            "                    from a given plate state\n"
             "  --seed N          plant noise seed, unsigned integer (default 1)\n"
             "  --mc N            Monte Carlo over N seeds (--seed, --seed + 1, ...), 1 <= N <= %u;\n"
             "                    writes <scenario>_mc_metrics.txt/.json instead of the CSV\n"
@@ -246,7 +252,7 @@ int main(int argc, char **argv)
     uint64_t unit_id = 0u;
     cli_noise_overrides_t ov;
     cli_temps_t temps;
-    static const char *const takes_value[] = {"--scenario", "--duration", "--seed", "--mc", "--setup", "--qu", "--qT",
+    static const char *const takes_value[] = {"--scenario", "--duration", "--warmup", "--seed", "--mc", "--setup", "--qu", "--qT",
                                               "--r-current", "--r-angle", "--r-velocity", "--drop-every", "--out",
                                               "--params", "--raw-log", "--raw-format", "--plant-params", "--plant-class",
                                               "--unit", "--spread", "--fault", "--events", "--params-out",
@@ -369,6 +375,14 @@ int main(int argc, char **argv)
             if (rc != 0) {
                 return rc;
             }
+        } else if (strcmp(a, "--warmup") == 0) {
+            if (cli_parse_double(v, &d) != 0) {
+                return usage_error("option %s: '%s' is not a finite number", a, v);
+            }
+            if (!(d >= 0.0) || d > SIM_WARMUP_MAX_S) {
+                return usage_error("option %s: %s is out of range (0 <= S <= %g)", a, v, SIM_WARMUP_MAX_S);
+            }
+            opt.warmup_s = d;
         } else {
             if (cli_parse_double(v, &d) != 0) {
                 return usage_error("option %s: '%s' is not a finite number", a, v);
@@ -378,6 +392,10 @@ int main(int argc, char **argv)
             }
             opt.duration_s = d;
         }
+    }
+    if (opt.warmup_s > 0.0 && (opt.scenario == SIM_SCN_STUCK_RELEASE || opt.scenario == SIM_SCN_STOP_LEARN)) {
+        return usage_error("option --warmup: scenario %s starts from a given plate state; it takes no warm-up",
+                           sim_scenario_name(opt.scenario));
     }
     /* the noise overrides; a density not given keeps its default */
     if (ov.given[CLI_NOISE_QU] || ov.given[CLI_NOISE_QT]) {

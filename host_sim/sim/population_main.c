@@ -310,10 +310,14 @@ static int write_unit_params(const char *dir, const char *section, uint64_t unit
     char path[CLI_PATH_MAX];
     FILE *f;
     int rc;
+    char warm[32] = "";
     const int n = snprintf(path, sizeof path, "%s/%s_%llu.params", dir, section, (unsigned long long)unit);
     if (n < 0 || (size_t)n >= sizeof path) {
         fprintf(stderr, "%s: --params-out: path too long under %s\n", s_prog, dir);
         return -1;
+    }
+    if (strcmp(section, "adapted") == 0) {
+        (void)snprintf(warm, sizeof warm, " --warmup %g", POP_ADAPT_WARMUP_S);
     }
     f = fopen(path, "w");
     if (f == NULL) {
@@ -322,10 +326,11 @@ static int write_unit_params(const char *dir, const char *section, uint64_t unit
     }
     rc = fprintf(f,
                  "# population --params-out: section %s, unit %llu (class %s). Rerun one of its runs with the\n"
-                 "# CSV trace (the adapted section's 5 s of excitation before its scoring is not part of it):\n"
-                 "#   host_sim --unit %llu --plant-class %s --spread %s --params %s --scenario NAME --seed N\n\n",
+                 "# CSV trace (--warmup: the adapted section's excitation before its scoring):\n"
+                 "#   host_sim --unit %llu --plant-class %s --spread %s --params %s%s --scenario NAME --seed N\n\n",
                  section, (unsigned long long)unit, plant_class_name(cls), (unsigned long long)unit,
-                 plant_class_name(cls), spread == PLANT_SPREAD_STOPS ? "stops" : "all", path) < 0
+                 plant_class_name(cls), spread == PLANT_SPREAD_STOPS ? "stops" : "all", path,
+                 warm) < 0
              ? TV_ERR_IO
              : params_write(f, ac);
     if (fclose(f) != 0 || rc != TV_OK) {
@@ -381,7 +386,8 @@ static void usage(FILE *f)
             "                    as DIR/<section>_<ID>.params (section stops, all, adapted,\n"
             "                    identified), headed by the host_sim command that reruns one of\n"
             "                    its runs with the CSV trace (--unit ID --plant-class C --spread S\n"
-            "                    --params FILE: unit IDs with ID %% 3 == 2 are of class b)\n"
+            "                    --params FILE, and --warmup 5 for adapted: unit IDs with\n"
+            "                    ID %% 3 == 2 are of class b)\n"
             "  --fault SPEC      inject a fault into every scored run (repeatable; the syntax and kinds\n"
             "                    of host_sim --fault, host_sim/plant/plant_fault.h); the stop learning\n"
             "                    and the nominal unit's reference run stay healthy\n"
