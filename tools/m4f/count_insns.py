@@ -13,6 +13,10 @@ Markers (tests/m4f/qemu_bench.c): a block in bench_app_<category>, bench_pred or
 opens a measurement, a block in bench_end closes it. Instructions in the markers themselves and
 in the driver (--exclude, default main,run,bench_contact) are not counted: what remains is the measured
 function and everything it calls (library included).
+
+--profile N also prints the N functions that execute the most instructions per application step
+(self counts: a block is charged to the function it lies in; the steps after lost samples are
+left out, as from the application step's mean), to show where the budget goes.
 """
 import argparse
 import re
@@ -30,6 +34,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--budget", type=int, default=16800, help="cycles per step (default 16800)")
     ap.add_argument("--exclude", default="main,run,bench_contact", help="driver functions not counted")
+    ap.add_argument("--profile", type=int, default=0, metavar="N",
+                    help="also print the N functions with the most instructions per application step")
     a = ap.parse_args()
     exclude = set(a.exclude.split(","))
 
@@ -43,6 +49,10 @@ def main():
     ekf_pairs = []
     pending_pred = None
     blocks_total = 0
+    prof = {}  # function -> instructions over the application steps (not after gaps)
+    prof_cur = {}  # ... of the step being measured
+    prof_steps = 0
+    app_cats = ("sine", "steps", "chirp", "position", "off", "safe")
     for line in sys.stdin:
         if in_block:
             m = INSN.match(line)
@@ -67,6 +77,11 @@ def main():
             if sym == "bench_end":
                 if cur_cat is not None:
                     results.setdefault(cur_cat, []).append(cur_n)
+                    if cur_cat in app_cats:
+                        prof_steps += 1
+                        for f, c in prof_cur.items():
+                            prof[f] = prof.get(f, 0) + c
+                    prof_cur = {}
                     if cur_cat == "pred":
                         pending_pred = cur_n
                     elif cur_cat == "corr" and pending_pred is not None:
@@ -76,12 +91,15 @@ def main():
             else:
                 cur_cat = sym[len("bench_app_"):] if sym.startswith("bench_app_") else sym[len("bench_"):]
                 cur_n = 0
+                prof_cur = {}
             continue
         if cur_cat is not None and sym not in exclude:
             n = tb_len.get(pc)
             if n is None:
                 sys.exit("count_insns: block at 0x%x ran before its disassembly was seen" % pc)
             cur_n += n
+            key = sym or "0x%x" % pc
+            prof_cur[key] = prof_cur.get(key, 0) + n
 
     if not results:
         sys.exit("count_insns: no markers found in the log (%d blocks)" % blocks_total)
@@ -119,6 +137,12 @@ def main():
         v = ekf_pairs
         print("  %-44s %6d %9s %9s %9s %9.1f %%" % ("EKF STEP (predict + correct)", len(v), fmt(sum(v) / len(v)),
                                                    fmt(min(v)), fmt(max(v)), 100.0 * max(v) / budget))
+    if a.profile > 0 and prof_steps:
+        total = sum(prof.values())
+        print("  where the application step's mean goes (self instructions per step, the %d largest of %d functions):"
+              % (min(a.profile, len(prof)), len(prof)))
+        for f, c in sorted(prof.items(), key=lambda kv: -kv[1])[:a.profile]:
+            print("    %-42s %9s %6.1f %%" % (f, fmt(c / prof_steps), 100.0 * c / total))
     print("  Instructions are a proxy for cycles until measured with the DWT on a board (the ECU keeps")
     print("  worst/mean cycles of every step and sends them in TV_LOOP and TV_ECU_CPU): on a Cortex-M4F")
     print("  most instructions take 1 cycle, but loads 2, taken branches 2-4, VDIV/VSQRT 14, and flash")
