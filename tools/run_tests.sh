@@ -2,7 +2,7 @@
 # The whole test suite, from a fresh clone on Debian 12 (the README's test command; .ci/run
 # calls exactly this). Steps, each must pass:
 #   1. install the Debian packages (tools/setup.sh)
-#   2. host build with ASan + UBSan, every ctest test (the soak runs 10^5 steps here)
+#   2. host build with ASan + UBSan at -O1, every ctest test (the soak runs 10^6 steps here)
 #   3. host release build, every ctest test again (10^7-step soak) + the benchmarks, which
 #      print numbers and never fail on them
 #   4. Cortex-M4F cross build (ECU image, QEMU test images) and the firmware report: flash/RAM
