@@ -390,7 +390,10 @@ static void usage(FILE *f)
             "                    ID %% 3 == 2 are of class b)\n"
             "  --fault SPEC      inject a fault into every scored run (repeatable; the syntax and kinds\n"
             "                    of host_sim --fault, host_sim/plant/plant_fault.h); the stop learning\n"
-            "                    and the nominal unit's reference run stay healthy\n"
+            "                    and the nominal unit's reference run stay healthy; onsets, and the\n"
+            "                    CSV's dtc_first_s and t_condition_s, count from the run's start: in\n"
+            "                    the adapted section, from the start of its 5 s warm-up (a fault at\n"
+            "                    2 s strikes during the warm-up there)\n"
             CLI_TEMP_HELP
             "                    (every run; the identified section's R is referred to 20 degC\n"
             "                    with the temperature told, as identify --winding-temp)\n"
