@@ -393,7 +393,7 @@ int main(int argc, char **argv)
             opt.duration_s = d;
         }
     }
-    if (opt.warmup_s > 0.0 && (opt.scenario == SIM_SCN_STUCK_RELEASE || opt.scenario == SIM_SCN_STOP_LEARN)) {
+    if (opt.warmup_s > 0.0 && !sim_scenario_takes_warmup(opt.scenario)) {
         return usage_error("option --warmup: scenario %s starts from a given plate state; it takes no warm-up",
                            sim_scenario_name(opt.scenario));
     }

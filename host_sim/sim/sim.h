@@ -324,6 +324,10 @@ int sim_scenario_from_name(const char *name, sim_scenario_t *out);
 /** Default duration of a scenario [s] (0 if invalid). */
 double sim_scenario_duration_s(sim_scenario_t s);
 
+/** 1 if a run of scenario s may begin with a warm-up (sim_options_t::warmup_s); 0 for
+ *  stuck_release and stop_learn, which start from a given plate state, and for an invalid s. */
+int sim_scenario_takes_warmup(sim_scenario_t s);
+
 /** Estimator row label ("app filter", "paper set-up, our map", ...); "?" if invalid. */
 const char *sim_est_name(sim_est_t e);
 

@@ -68,7 +68,7 @@ int sim_check_options(const sim_options_t *opt)
         return TV_ERR_NONFINITE;
     }
     if (opt->warmup_s < 0.0 || opt->warmup_s > SIM_WARMUP_MAX_S ||
-        (opt->warmup_s > 0.0 && (opt->scenario == SIM_SCN_STUCK_RELEASE || opt->scenario == SIM_SCN_STOP_LEARN))) {
+        (opt->warmup_s > 0.0 && !sim_scenario_takes_warmup(opt->scenario))) {
         return TV_ERR_RANGE;
     }
     return TV_OK;

@@ -69,6 +69,11 @@ double sim_scenario_duration_s(sim_scenario_t s)
     return (unsigned)s < (unsigned)SIM_SCN_COUNT ? s_scn_duration_s[s] : 0.0;
 }
 
+int sim_scenario_takes_warmup(sim_scenario_t s)
+{
+    return (unsigned)s < (unsigned)SIM_SCN_COUNT && s != SIM_SCN_STUCK_RELEASE && s != SIM_SCN_STOP_LEARN;
+}
+
 const char *sim_est_name(sim_est_t e)
 {
     return (unsigned)e < (unsigned)SIM_EST_COUNT ? s_est_names[e] : "?";

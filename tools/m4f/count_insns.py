@@ -52,7 +52,7 @@ def main():
     prof = {}  # function -> instructions over the application steps (not after gaps)
     prof_cur = {}  # ... of the step being measured
     prof_steps = 0
-    app_cats = ("sine", "steps", "chirp", "position", "off", "safe")
+    app_cats = ["sine", "steps", "chirp", "position", "off", "safe"]  # the application step's modes
     for line in sys.stdin:
         if in_block:
             m = INSN.match(line)
@@ -109,7 +109,7 @@ def main():
     print("  budget: %s cycles per 1 ms step = 10 %% of a 168 MHz core at 1 kHz" % fmt(budget))
     print("  %-44s %6s %9s %9s %9s %11s" % ("instructions per call", "calls", "mean", "min", "max", "max/budget"))
     app_all = []
-    order = ["sine", "steps", "chirp", "position", "off", "safe", "gap"]
+    order = app_cats + ["gap"]
     for cat in order + sorted(set(results) - set(order) - {"pred", "corr", "pred_hc", "fit"}):
         v = results.get(cat)
         if not v:
