@@ -15,7 +15,9 @@ set(CMAKE_C_FLAGS_INIT "${TV_M4F_FLAGS} -ffunction-sections -fdata-sections")
 set(CMAKE_CXX_FLAGS_INIT "${TV_M4F_FLAGS} -ffunction-sections -fdata-sections")
 set(CMAKE_ASM_FLAGS_INIT "${TV_M4F_FLAGS}")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "${TV_M4F_FLAGS} -Wl,--gc-sections")
-set(CMAKE_C_FLAGS_RELEASE_INIT "-O2")
+# The optimisation level is the preset's (CMakePresets.json, m4f: -O3 -DNDEBUG). An -O2 here was
+# followed by the -O3 -DNDEBUG that CMake appends for GCC, so every image was -O3 while the
+# documents said -O2; the preset now says what is built.
 
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 set(CMAKE_FIND_ROOT_PATH_MODE_LIBRARY ONLY)

@@ -105,7 +105,7 @@ def main():
         sys.exit("count_insns: no markers found in the log (%d blocks)" % blocks_total)
 
     budget = a.budget
-    print("Cortex-M4F CPU budget: instructions counted in QEMU mps2-an386 (Cortex-M4 + FPU), same -O2 code as the ECU")
+    print("Cortex-M4F CPU budget: instructions counted in QEMU mps2-an386 (Cortex-M4 + FPU), same -O3 code as the ECU")
     print("  budget: %s cycles per 1 ms step = 10 %% of a 168 MHz core at 1 kHz" % fmt(budget))
     print("  %-44s %6s %9s %9s %9s %11s" % ("instructions per call", "calls", "mean", "min", "max", "max/budget"))
     app_all = []
