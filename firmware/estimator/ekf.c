@@ -474,7 +474,11 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
             FP[a][b] = F[a][0] * ekf->P[0][b] + F[a][1] * ekf->P[1][b] + F[a][2] * ekf->P[2][b];
         }
     }
-    memset(&ap, 0, sizeof ap);
+    /* with every augmented state in use the loops below write every entry of ap: the zeroing
+     * is only for the unused ones (and the filter without augmented states) */
+    if (!ekf->aug_on || ekf->g_cols != TVM_G_ALL) {
+        memset(&ap, 0, sizeof ap);
+    }
     ap.on = ekf->g_cols;
     if (ekf->aug_on) {
         const tv_real_t beta[TVM_NA] = {contact ? TV_R(1.0) : ekf->d_beta, TV_R(1.0), TV_R(1.0), TV_R(1.0)};
