@@ -361,6 +361,27 @@ typedef struct {
     unsigned on;           /* the states in use (bit TVM_A_*: ekf_t::g_cols) */
 } aug_part_t;
 
+/* Zero the entries of ap that belong to the augmented states not in on (all of them for on = 0):
+ * what a memset of ap would do to the entries the caller does not write, in fewer instructions
+ * (the default filter leaves one state of four unused: 12 stores against 132 bytes). */
+static void aug_zero_unused(aug_part_t *ap, unsigned on)
+{
+    int q;
+    int r;
+    for (q = 0; q < TVM_NA; ++q) {
+        if ((on & (1u << q)) == 0u) {
+            ap->a[q] = TV_R(0.0);
+            for (r = 0; r < TVM_NX; ++r) {
+                ap->Pxa[r][q] = TV_R(0.0);
+            }
+            for (r = 0; r < TVM_NA; ++r) {
+                ap->Paa[q][r] = TV_R(0.0);
+                ap->Paa[r][q] = TV_R(0.0);
+            }
+        }
+    }
+}
+
 /* The augmented part is sane: finite, variances >= 0, |cov| <= sqrt(var var) with x and within. */
 static int aug_sane(const tv_real_t *P, const aug_part_t *ap)
 {
@@ -474,11 +495,8 @@ static int propagate(ekf_t *ekf, const tv_real_t x_pred[TVM_NX], tv_real_t F[TVM
             FP[a][b] = F[a][0] * ekf->P[0][b] + F[a][1] * ekf->P[1][b] + F[a][2] * ekf->P[2][b];
         }
     }
-    /* with every augmented state in use the loops below write every entry of ap: the zeroing
-     * is only for the unused ones (and the filter without augmented states) */
-    if (!ekf->aug_on || ekf->g_cols != TVM_G_ALL) {
-        memset(&ap, 0, sizeof ap);
-    }
+    /* the loops below write the entries of the states in use; those of the others are zero */
+    aug_zero_unused(&ap, ekf->g_cols);
     ap.on = ekf->g_cols;
     if (ekf->aug_on) {
         const tv_real_t beta[TVM_NA] = {contact ? TV_R(1.0) : ekf->d_beta, TV_R(1.0), TV_R(1.0), TV_R(1.0)};
