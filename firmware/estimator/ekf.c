@@ -178,6 +178,7 @@ void ekf_config_default(ekf_config_t *cfg, ekf_setup_t setup)
     cfg->nis_inflate_alpha = EKF_DEFAULT_NIS_INFLATE_ALPHA;
     cfg->nis_inflate_threshold = EKF_DEFAULT_NIS_INFLATE_THRESHOLD;
     cfg->nis_inflate_max = EKF_DEFAULT_NIS_INFLATE_MAX;
+    cfg->white_threshold = EKF_DEFAULT_WHITE_THRESHOLD;
 }
 
 void ekf_config_paper(ekf_config_t *cfg)
@@ -267,7 +268,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !TV_IS_FINITE(cfg->f_abs_max) || !TV_IS_FINITE(cfg->f_excite_rad_s) || !TV_IS_FINITE(cfg->qm_1_s) ||
         !TV_IS_FINITE(cfg->m_sigma0) || !TV_IS_FINITE(cfg->m_abs_max) || !TV_IS_FINITE(cfg->nis_inflate_alpha) ||
         !TV_IS_FINITE(cfg->nis_inflate_threshold) || !TV_IS_FINITE(cfg->nis_inflate_max) ||
-        !TV_IS_FINITE(cfg->stuck_q_min) || !TV_IS_FINITE(cfg->stuck_hold_frac)) {
+        !TV_IS_FINITE(cfg->white_threshold) || !TV_IS_FINITE(cfg->stuck_q_min) || !TV_IS_FINITE(cfg->stuck_hold_frac)) {
         return TV_ERR_NONFINITE;
     }
     if (cfg->setup != EKF_SETUP_CURRENT_ANGLE && cfg->setup != EKF_SETUP_PAPER_3MEAS) {
@@ -296,7 +297,7 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !(cfg->f_abs_max > TV_R(0.0) && cfg->f_abs_max < TV_R(1.0)) || cfg->f_excite_rad_s < TV_R(0.0) ||
         cfg->qm_1_s < TV_R(0.0) || cfg->m_sigma0 < TV_R(0.0) || !(cfg->m_abs_max > TV_R(0.0) && cfg->m_abs_max < TV_R(1.0)) ||
         cfg->nis_inflate_alpha < TV_R(0.0) || cfg->nis_inflate_alpha > TV_R(1.0) || !(cfg->nis_inflate_threshold > TV_R(0.0)) ||
-        !(cfg->nis_inflate_max >= TV_R(1.0)) || !(cfg->stuck_q_min > TV_R(0.0)) || cfg->stuck_q_min > TV_R(1.0) ||
+        !(cfg->nis_inflate_max >= TV_R(1.0)) || cfg->white_threshold < TV_R(0.0) || !(cfg->stuck_q_min > TV_R(0.0)) || cfg->stuck_q_min > TV_R(1.0) ||
         !(cfg->stuck_hold_frac > TV_R(0.0)) || cfg->stuck_hold_frac > TV_R(1.0)) {
         return TV_ERR_CONFIG;
     }
@@ -314,6 +315,10 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
     ekf->cfg = *cfg;
     ekf->nis_avg = TV_R(1.0);
     ekf->q_scale = TV_R(1.0);
+    ekf->q_scale_plate = TV_R(1.0);
+    ekf->white_c = cfg->nis_inflate_alpha > TV_R(0.0) && cfg->white_threshold > TV_R(0.0)
+                       ? (TV_R(2.0) - cfg->nis_inflate_alpha) / (cfg->nis_inflate_alpha * cfg->white_threshold)
+                       : TV_R(0.0);
     /* Q is used symmetrised (validated symmetric to 1e-6 relative above). */
     {
         int b;
@@ -824,15 +829,17 @@ static int inflate_at_contact(tv_real_t phi, mat3_t P, tv_real_t z, tv_real_t r,
     return 1;
 }
 
-/* The factor on Q of the next predictions and the scaled Q they add (ekf_t::Qs). */
-static void set_q_scale(ekf_t *ekf, tv_real_t scale)
+/* The factors on Q of the next predictions (the current's entry, the plate's block) and the
+ * scaled Q they add (ekf_t::Qs; Q has no current-plate terms). */
+static void set_q_scale(ekf_t *ekf, tv_real_t scale, tv_real_t scale_plate)
 {
     int a;
     int b;
     ekf->q_scale = scale;
+    ekf->q_scale_plate = scale_plate;
     for (a = 0; a < TVM_NX; ++a) {
         for (b = 0; b < TVM_NX; ++b) {
-            ekf->Qs[a][b] = scale * ekf->cfg.Q[a][b];
+            ekf->Qs[a][b] = (a == TVM_I || b == TVM_I ? scale : scale_plate) * ekf->cfg.Q[a][b];
         }
     }
 }
@@ -945,16 +952,40 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
         ++ekf->n_correct;
         if (ekf->cfg.nis_inflate_alpha > TV_R(0.0)) {
             /* consistency-driven inflation (ekf_config_t::nis_inflate_alpha): the clipped NIS per
-             * channel, low-pass; Q of the next predictions scaled by its square excess. The
-             * scaled Q is formed here, only when the factor changes (a consistent filter pays
-             * the average alone) */
-            ekf->nis_avg += ekf->cfg.nis_inflate_alpha * (nis_clipped / (tv_real_t)res.n_used - ekf->nis_avg);
+             * channel, low-pass; Q of the next predictions scaled by its square excess; the
+             * plate's block also by the angle innovations' mean (white_threshold). The scaled Q
+             * is formed here, only when a factor is above 1 or returns to it (a consistent
+             * filter pays the averages alone) */
+            const tv_real_t alpha = ekf->cfg.nis_inflate_alpha;
+            const tv_real_t qmax = ekf->cfg.nis_inflate_max;
+            tv_real_t s = TV_R(1.0);
+            tv_real_t sp;
+            ekf->nis_avg += alpha * (nis_clipped / (tv_real_t)res.n_used - ekf->nis_avg);
             if (ekf->nis_avg > ekf->cfg.nis_inflate_threshold) {
                 const tv_real_t r = ekf->nis_avg / ekf->cfg.nis_inflate_threshold;
-                set_q_scale(ekf, r * r < ekf->cfg.nis_inflate_max ? r * r : ekf->cfg.nis_inflate_max);
+                s = r * r < qmax ? r * r : qmax;
+            }
+            sp = s;
+            if (ekf->white_c > TV_R(0.0) && res.used[EKF_CH_ANGLE]) {
+                /* the innovation clipped at 3 sigma, as the NIS above: a lasting bias of a few
+                 * sigma is what this is for; a start-up transient or a fault's jump is not */
+                tv_real_t y = res.innov[EKF_CH_ANGLE];
+                tv_real_t k;
+                if (res.nis[EKF_CH_ANGLE] > EKF_NIS_INFLATE_CLIP) {
+                    const tv_real_t ymax = TV_SQRT(EKF_NIS_INFLATE_CLIP * res.innov_var[EKF_CH_ANGLE]);
+                    y = y > TV_R(0.0) ? ymax : -ymax;
+                }
+                ekf->phi_innov_avg += alpha * (y - ekf->phi_innov_avg);
+                k = ekf->phi_innov_avg * ekf->phi_innov_avg * ekf->white_c / res.innov_var[EKF_CH_ANGLE];
+                if (k > sp) {
+                    sp = k < qmax ? k : qmax;
+                }
+            }
+            if (sp > TV_R(1.0)) {
+                set_q_scale(ekf, s, sp);
                 ++ekf->n_q_inflated;
-            } else if (ekf->q_scale != TV_R(1.0)) {
-                set_q_scale(ekf, TV_R(1.0));
+            } else if (ekf->q_scale_plate != TV_R(1.0)) {
+                set_q_scale(ekf, TV_R(1.0), TV_R(1.0));
             }
         }
     }
@@ -1059,6 +1090,7 @@ void ekf_health(const ekf_t *ekf, ekf_health_t *h)
     h->n_inflate = ekf->n_inflate;
     h->n_q_inflated = ekf->n_q_inflated;
     h->q_scale = ekf->q_scale;
+    h->q_scale_plate = ekf->q_scale_plate;
     h->n_predict = ekf->n_predict;
     h->n_correct = ekf->n_correct;
     h->n_rejected = ekf->n_rejected;

@@ -371,6 +371,11 @@ struct Config {
     double nis_inflate_alpha = 0.0;
     double nis_inflate_threshold = 1.2;
     double nis_inflate_max = 100.0;
+    /** Whiteness-driven inflation (ekf.h ekf_config_t::white_threshold): the angle innovation,
+     *  clipped at 3 sigma, its mean low-pass with the same gain from 0; Q's (w, phi) block of the next predictions times
+     *  k = mean^2 (2 - alpha) / (alpha white_threshold S) where that exceeds the NIS factor (at
+     *  most max); 0 = off. */
+    double white_threshold = 0.0;
 };
 
 /**
@@ -404,6 +409,8 @@ const double kDefaultNisInflateAlpha = 0.02;
 const double kDefaultNisInflateThreshold = 1.2;
 const double kDefaultNisInflateMax = 100.0;
 const double kNisInflateClip = 9.0;
+/** EKF_DEFAULT_WHITE_THRESHOLD (ekf.h). */
+const double kDefaultWhiteThreshold = 8.0;
 
 /** ekf_config_default() as documented in ekf.h. */
 inline Config config_default(const Params& p, Setup setup)
@@ -420,6 +427,7 @@ inline Config config_default(const Params& p, Setup setup)
     c.nis_inflate_alpha = kDefaultNisInflateAlpha;
     c.nis_inflate_threshold = kDefaultNisInflateThreshold;
     c.nis_inflate_max = kDefaultNisInflateMax;
+    c.white_threshold = kDefaultWhiteThreshold;
     c.r = Eigen::Vector3d(1.054e-4, 1.0, 2.668e-8);
     c.var_floor = Eigen::Vector3d::Constant(1e-12);
     c.var_ceil = Eigen::Vector3d(1e4, 1e6, 10.0);
@@ -490,7 +498,10 @@ public:
     void predict_with(const Eigen::Matrix3d& F, const Eigen::Vector3d& x_pred, double q_model_Nm2_s = 0.0,
                       double q_impact = 0.0, double q_plate = 1.0)
     {
-        Eigen::Matrix3d Q = q_scale_ * c_.Q + q_from_spectral(p_, 0.0, q_model_Nm2_s);
+        Eigen::Matrix3d Qc = c_.Q;
+        Qc(0, 0) *= q_scale_;
+        Qc.block<2, 2>(1, 1) *= q_scale_plate_;
+        Eigen::Matrix3d Q = Qc + q_from_spectral(p_, 0.0, q_model_Nm2_s);
         Q.block<2, 2>(1, 1) *= q_plate;
         x_ = x_pred;
         P_ = F * P_ * F.transpose() + Q;
@@ -536,12 +547,22 @@ public:
             nis_avg_ += c_.nis_inflate_alpha * (v - nis_avg_);
             const double r = nis_avg_ / c_.nis_inflate_threshold;
             q_scale_ = r > 1.0 ? std::min(r * r, c_.nis_inflate_max) : 1.0;
+            q_scale_plate_ = q_scale_;
+            if (c_.white_threshold > 0.0 && out.used[2]) {
+                const double a = c_.nis_inflate_alpha;
+                const double ymax = std::sqrt(kNisInflateClip * out.innov_var(2));
+                phi_innov_avg_ += a * (std::max(-ymax, std::min(ymax, out.innov(2))) - phi_innov_avg_);
+                const double k = phi_innov_avg_ * phi_innov_avg_ * (2.0 - a) / (a * c_.white_threshold * out.innov_var(2));
+                q_scale_plate_ = std::max(q_scale_plate_, std::min(k, c_.nis_inflate_max));
+            }
         }
         return out;
     }
 
     /** The factor on Q of the next prediction (consistency-driven inflation). */
     double q_scale() const { return q_scale_; }
+    /** The factor on Q's (w, phi) block of the next prediction (also whiteness-driven). */
+    double q_scale_plate() const { return q_scale_plate_; }
 
 private:
     void symmetrise() { P_ = (0.5 * (P_ + P_.transpose())).eval(); }
@@ -567,6 +588,8 @@ private:
     Eigen::Matrix3d P_;
     double nis_avg_ = 1.0;
     double q_scale_ = 1.0;
+    double q_scale_plate_ = 1.0;
+    double phi_innov_avg_ = 0.0;
 };
 
 } // namespace tvref
