@@ -21,11 +21,12 @@ POPULATION MODE (--population): Q tuned over the TRAINING units of the throttle 
 (host_sim/plant/plant_draw.h; unit IDs 0 .. N-1, noise seeds 1001 .. 1000 + S, S = 3 by default as in
 the benchmark; --jobs N runs N settings at a time; the population
 benchmark scores units 1000 .. with seeds 1 .., so training and evaluation share neither units nor
-noise). For every (qu, qT, qc, qT_rel, inflate, impact) of the grid (qc: the torque-noise density added in the
+noise). For every (qu, qT, qc, qT_rel, inflate, impact, white) of the grid (qc: the torque-noise density added in the
 contact band, ekf.qc_Nm2_s; qT_rel: the model-torque noise, ekf.qT_rel_s; inflate: the
-consistency-driven inflation's threshold, ekf.nis_inflate_threshold, 0 = off; impact: the
-impact-timing variance, ekf.impact_timing, 0 = off; --grid-qu ..
---grid-impact restrict it) the population executable runs both sections (stops_varied,
+consistency-driven inflation's threshold, ekf.nis_inflate_threshold, 0 = off (the whiteness-driven
+one, which shares its gain, then too); impact: the impact-timing variance, ekf.impact_timing,
+0 = off; white: the whiteness-driven inflation's threshold, ekf.white_threshold, 0 = off;
+--grid-qu .. --grid-white restrict it) the population executable runs both sections (stops_varied,
 all_varied) over the scenario mix with the filter's other settings at their defaults (learned stops
 and contact law, contact inflation, resistance-error state), and the setting is chosen by a fixed
 rule, in this order:
@@ -47,6 +48,7 @@ between consistency and accuracy is on record whichever setting the rule picks.
 Usage: tools/tune_noise.py [--host-sim PATH] [--seeds M] [--scenario NAME]
        tools/tune_noise.py --population [--population-exe PATH] [--plants N] [--seeds S] [--jobs N]
                            [--grid-qu L] [--grid-qT L] [--grid-qc L] [--grid-qrel L] [--grid-inflate L] [--grid-impact L]
+                           [--grid-white L]
 """
 import argparse
 import concurrent.futures
@@ -96,18 +98,19 @@ POP_GRID_QC = [0.0, 1e-5, 2e-5, 5e-5]
 POP_GRID_QREL = [0.0]  # the model-torque noise stays off unless searched (--grid-qrel 0,1e-5,3e-5: README)
 POP_GRID_INFLATE = [1.2]  # ekf.nis_inflate_threshold (0 = the inflation off); the default 1.2
 POP_GRID_IMPACT = [0.003]  # ekf.impact_timing (0 = off); the default 0.003 (--grid-impact 0,0.01,..: README)
+POP_GRID_WHITE = [8.0]  # ekf.white_threshold (0 = off); the default 8 (--grid-white 0,4,8,16: README)
 
 
-def params_text(qu, qT, qc, qrel, inflate, impact):
+def params_text(qu, qT, qc, qrel, inflate, impact, white):
     text = (f"ekf.qu_V2_s = {qu!r}\nekf.qT_Nm2_s = {qT!r}\nekf.qc_Nm2_s = {qc!r}\n"
-            f"ekf.qT_rel_s = {qrel!r}\nekf.impact_timing = {impact!r}\n")
+            f"ekf.qT_rel_s = {qrel!r}\nekf.impact_timing = {impact!r}\nekf.white_threshold = {white!r}\n")
     if inflate > 0.0:
         return text + f"ekf.nis_inflate_threshold = {inflate!r}\n"
     return text + "ekf.nis_inflate_alpha = 0\n"
 
 
 def run_population(exe, setting, plants, seeds, tmp):
-    """One population run on the training units with setting = (qu, qT, qc, qT_rel, inflate, impact); the
+    """One population run on the training units with setting = (qu, qT, qc, qT_rel, inflate, impact, white); the
     summary as a dict."""
     params = os.path.join(tmp, "q.params")
     out = os.path.join(tmp, "summary.json")
@@ -130,11 +133,11 @@ def run_population(exe, setting, plants, seeds, tmp):
 
 
 def population_row(setting, summary):
-    qu, qT, qc, qrel, inflate, impact = setting
+    qu, qT, qc, qrel, inflate, impact, white = setting
     secs = [summary["stops_varied"], summary["all_varied"]]
     return {
         "qu_V2_s": qu, "qT_Nm2_s": qT, "qc_Nm2_s": qc, "qT_rel_s": qrel, "nis_inflate_threshold": inflate,
-        "impact_timing": impact,
+        "impact_timing": impact, "white_threshold": white,
         "nominal_rmse_rad_s": summary["nominal_paper_sine_velocity_rmse_rad_s"],
         "flags": sum(s["consistency_flags_healthy"] for s in secs),
         "dtc_runs": sum(s["runs_with_dtc_confirmed"] for s in secs),
@@ -187,10 +190,11 @@ def main_population(a):
         sys.exit(f"tune_noise: --plants must be 1..1000, --seeds 1..100 and --jobs 1..64 in --population mode "
                  f"(got {a.plants}, {a.seeds}, {a.jobs})")
     rows = []
-    grid = list(itertools.product(a.grid_qu, a.grid_qT, a.grid_qc, a.grid_qrel, a.grid_inflate, a.grid_impact))
+    grid = list(itertools.product(a.grid_qu, a.grid_qT, a.grid_qc, a.grid_qrel, a.grid_inflate, a.grid_impact,
+                                  a.grid_white))
     print(f"population mode: training units 0..{a.plants - 1}, seeds {POP_FIRST_TRAIN_SEED}.."
-          f"{POP_FIRST_TRAIN_SEED + a.seeds - 1}, {len(grid)} (qu, qT, qc, qT_rel, inflate, impact) settings")
-    print("     qu        qT        qc    qT_rel inflate impact   nominal  flags   dtc incons  NEES0.1s  NEESrun  worst  median(stops, all)  nominal ANEES")
+          f"{POP_FIRST_TRAIN_SEED + a.seeds - 1}, {len(grid)} (qu, qT, qc, qT_rel, inflate, impact, white) settings")
+    print("     qu        qT        qc    qT_rel inflate impact white   nominal  flags   dtc incons  NEES0.1s  NEESrun  worst  median(stops, all)  nominal ANEES")
     def evaluate(setting):
         """One setting's row (population on the training units, then the nominal Monte Carlo when
         its paper sine is accurate enough), in a temporary directory of its own."""
@@ -210,7 +214,7 @@ def main_population(a):
         for n, r in enumerate(pool.map(evaluate, grid), 1):
             rows.append(r)
             print(f"{r['qu_V2_s']:7.1e} {r['qT_Nm2_s']:9.1e} {r['qc_Nm2_s']:9.1e} {r['qT_rel_s']:9.1e} "
-                  f"{r['nis_inflate_threshold']:7.2f} {r['impact_timing']:6.3f} {r['nominal_rmse_rad_s']:9.4f} {r['flags']:6d} {r['dtc_runs']:5d} "
+                  f"{r['nis_inflate_threshold']:7.2f} {r['impact_timing']:6.3f} {r['white_threshold']:5.1f} {r['nominal_rmse_rad_s']:9.4f} {r['flags']:6d} {r['dtc_runs']:5d} "
                   f"{r['inconsistent_runs']:6d} {r['nees_window_max']:9.1f} "
                   f"{r['nees_run_avg_max']:8.2f} {r['worst_ratio']:6.2f}  {r['median_ratio_stops']:5.2f} "
                   f"{r['median_ratio_all']:5.2f}  "
@@ -223,12 +227,14 @@ def main_population(a):
                    "nominal_max_rad_s": NOMINAL_MAX_RAD_S, "rows": rows, "chosen": best, "why": why}, fh, indent=1)
     print(f"chosen ({why}): qu = {best['qu_V2_s']:g} V^2 s, qT = {best['qT_Nm2_s']:g} N^2 m^2 s, "
           f"qc = {best['qc_Nm2_s']:g} N^2 m^2 s, qT_rel = {best['qT_rel_s']:g} s, "
-          f"inflation threshold = {best['nis_inflate_threshold']:g} (0 = off), impact timing = {best['impact_timing']:g}")
+          f"inflation threshold = {best['nis_inflate_threshold']:g} (0 = off), impact timing = {best['impact_timing']:g}, "
+          f"whiteness threshold = {best['white_threshold']:g} (0 = off)")
     print(f"#define EKF_DEFAULT_QU_V2_S TV_R({best['qu_V2_s']:.1e})")
     print(f"#define EKF_DEFAULT_QT_NM2_S TV_R({best['qT_Nm2_s']:.1e})")
     print(f"#define EKF_DEFAULT_QC_NM2_S TV_R({best['qc_Nm2_s']:.1e})")
     print(f"#define EKF_DEFAULT_QT_REL_S TV_R({best['qT_rel_s']:.1e})")
     print(f"#define EKF_DEFAULT_IMPACT_TIMING TV_R({best['impact_timing']:g})")
+    print(f"#define EKF_DEFAULT_WHITE_THRESHOLD TV_R({best['white_threshold']:g})")
     if best["nis_inflate_threshold"] > 0.0:
         print(f"#define EKF_DEFAULT_NIS_INFLATE_THRESHOLD TV_R({best['nis_inflate_threshold']:g})")
     else:
@@ -262,7 +268,7 @@ def main():
                     help="--population: settings run at a time, 1..64 (default: the machine's cores; each "
                          "setting is one single-threaded process at a time)")
     for name, grid in (("qu", POP_GRID_QU), ("qT", POP_GRID_QT), ("qc", POP_GRID_QC), ("qrel", POP_GRID_QREL),
-                       ("inflate", POP_GRID_INFLATE), ("impact", POP_GRID_IMPACT)):
+                       ("inflate", POP_GRID_INFLATE), ("impact", POP_GRID_IMPACT), ("white", POP_GRID_WHITE)):
         ap.add_argument(f"--grid-{name}", type=float_list, default=grid,
                         help=f"--population: the {name} values searched, comma-separated (default {','.join(map(str, grid))})")
     a = ap.parse_args()
