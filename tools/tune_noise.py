@@ -98,7 +98,8 @@ POP_GRID_QC = [0.0, 1e-5, 2e-5, 5e-5]
 POP_GRID_QREL = [0.0]  # the model-torque noise stays off unless searched (--grid-qrel 0,1e-5,3e-5: README)
 POP_GRID_INFLATE = [1.2]  # ekf.nis_inflate_threshold (0 = the inflation off); the default 1.2
 POP_GRID_IMPACT = [0.003]  # ekf.impact_timing (0 = off); the default 0.003 (--grid-impact 0,0.01,..: README)
-POP_GRID_WHITE = [8.0]  # ekf.white_threshold (0 = off); the default 8 (--grid-white 0,4,8,16: README)
+POP_GRID_WHITE = [0.0]  # ekf.white_threshold (0 = off, the default; the rule's pick over 0,4,8,12,16,24 is 16,
+# off for the fault matrix's sake: README "Whiteness-driven inflation")
 
 
 def params_text(qu, qT, qc, qrel, inflate, impact, white):

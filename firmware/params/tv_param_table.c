@@ -68,7 +68,7 @@ static const tvp_desc_t s_table[TVP_COUNT] = {
     {"ekf.nis_inflate_alpha", "-", 0.0, 1.0, 0u, "consistency-driven inflation: low-pass gain of the average NIS per correction (0 = off)"},
     {"ekf.nis_inflate_threshold", "-", 0.0, 1000.0, TVP_LO_OPEN, "consistency-driven inflation: average NIS above which Q is scaled by (average / this)^2"},
     {"ekf.nis_inflate_max", "-", 1.0, 1.0e6, 0u, "consistency-driven inflation: largest factor on Q"},
-    {"ekf.white_threshold", "-", 0.0, 1.0e6, 0u, "whiteness-driven inflation: the angle innovations' squared mean, in multiples of what white noise gives, above which Q's plate block is scaled by the ratio (0 = off; default 16)"},
+    {"ekf.white_threshold", "-", 0.0, 1.0e6, 0u, "whiteness-driven inflation: the angle innovations' squared mean, in multiples of what white noise gives, above which Q's plate block is scaled by the ratio (0 = off, the default; trained setting 16)"},
     {"ekf.stuck_q_min", "-", 0.0, 1.0, TVP_LO_OPEN, "stuck-plate noise: factor on the plate's process noise where static friction holds the plate with a reserve of at least stuck_hold_frac (1 = off)"},
     {"ekf.stuck_hold_frac", "-", 0.0, 1.0, TVP_LO_OPEN, "stuck-plate noise: friction reserve (1 - net torque / breakaway) from which stuck_q_min applies"},
     {"diag.identified", "-", 0.0, 1.0, TVP_INTEGER, "1: the model is this unit's own (identify writes it): the diagnostic bounds judge friction and preload relative to it (diag_detect_config_identified())"},

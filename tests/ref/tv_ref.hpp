@@ -410,7 +410,7 @@ const double kDefaultNisInflateThreshold = 1.2;
 const double kDefaultNisInflateMax = 100.0;
 const double kNisInflateClip = 9.0;
 /** EKF_DEFAULT_WHITE_THRESHOLD (ekf.h). */
-const double kDefaultWhiteThreshold = 16.0;
+const double kDefaultWhiteThreshold = 0.0;
 
 /** ekf_config_default() as documented in ekf.h. */
 inline Config config_default(const Params& p, Setup setup)
