@@ -829,6 +829,20 @@ static int inflate_at_contact(tv_real_t phi, mat3_t P, tv_real_t z, tv_real_t r,
     return 1;
 }
 
+/* The whiteness-driven inflation's ratio k (ekf_config_t::white_threshold) after an angle
+ * correction of innovation y, variance S and NIS y^2 / S: y clipped at 3 sigma, as the NIS
+ * average's input (a lasting bias of a few sigma is what this is for; a start-up transient or a
+ * fault's jump is not), joins the low-pass mean m; k = m^2 (2 - alpha) / (alpha threshold S). */
+static tv_real_t whiteness_ratio(ekf_t *ekf, tv_real_t y, tv_real_t S, tv_real_t nis)
+{
+    if (nis > EKF_NIS_INFLATE_CLIP) {
+        const tv_real_t ymax = TV_SQRT(EKF_NIS_INFLATE_CLIP * S);
+        y = y > TV_R(0.0) ? ymax : -ymax;
+    }
+    ekf->phi_innov_avg += ekf->cfg.nis_inflate_alpha * (y - ekf->phi_innov_avg);
+    return ekf->phi_innov_avg * ekf->phi_innov_avg * ekf->white_c / S;
+}
+
 /* The factors on Q of the next predictions (the current's entry, the plate's block) and the
  * scaled Q they add (ekf_t::Qs; Q has no current-plate terms). */
 static void set_q_scale(ekf_t *ekf, tv_real_t scale, tv_real_t scale_plate)
@@ -967,16 +981,8 @@ int ekf_correct_channels(ekf_t *ekf, const ekf_meas_t *meas, unsigned mask, ekf_
             }
             sp = s;
             if (ekf->white_c > TV_R(0.0) && res.used[EKF_CH_ANGLE]) {
-                /* the innovation clipped at 3 sigma, as the NIS above: a lasting bias of a few
-                 * sigma is what this is for; a start-up transient or a fault's jump is not */
-                tv_real_t y = res.innov[EKF_CH_ANGLE];
-                tv_real_t k;
-                if (res.nis[EKF_CH_ANGLE] > EKF_NIS_INFLATE_CLIP) {
-                    const tv_real_t ymax = TV_SQRT(EKF_NIS_INFLATE_CLIP * res.innov_var[EKF_CH_ANGLE]);
-                    y = y > TV_R(0.0) ? ymax : -ymax;
-                }
-                ekf->phi_innov_avg += alpha * (y - ekf->phi_innov_avg);
-                k = ekf->phi_innov_avg * ekf->phi_innov_avg * ekf->white_c / res.innov_var[EKF_CH_ANGLE];
+                const tv_real_t k = whiteness_ratio(ekf, res.innov[EKF_CH_ANGLE], res.innov_var[EKF_CH_ANGLE],
+                                                    res.nis[EKF_CH_ANGLE]);
                 if (k > sp) {
                     sp = k < qmax ? k : qmax;
                 }
