@@ -900,7 +900,7 @@ static tv_real_t feed_away(diag_detect_t *dd, diag_t *d, diag_snapshot_t *snap, 
  * the feed pauses. After DIAG_TORQUE_PAUSE + 1 steps without a sample, the next sample first
  * scales the sums from before to torque_min_weight (30) samples, keeping their ratios: weight
  * 30 x 0.98 + 1 = 30.4 in the signature's and the away reading's sums (the spring probe's
- * opening reading to probe_min_weight: 8 x 0.98 + 1 = 8.84), the away friction sum 0.2
+ * opening reading to probe_min_weight: 5 x 0.98 + 1 = 5.9), the away friction sum 0.2
  * per sample; after a pause of exactly DIAG_TORQUE_PAUSE steps nothing is rescaled (weight
  * 0.98 x 49.9 + 1). A broken spring's samples (y = +0.28 along the motion: the spring torque the
  * model opposes the move with is gone) then bring the away reading 1 + sum(-y) / sum(F) below
@@ -943,8 +943,8 @@ static void test_torque_pause(void)
         TV_CHECK_NEAR(dd.tq_w, long_pause ? 30.0 * 0.98 + 1.0 : 0.98 * w0 + 1.0, 1e-3);
         TV_CHECK_NEAR(dd.aw_fs, TV_R(0.2) * dd.aw_w, 1e-4);
         /* the spring probe's opening reading (these samples move away from limp-home): rescaled
-         * to probe_min_weight (8), its spring sums with it (s = 0.28 in every sample) */
-        TV_CHECK_NEAR(dd.po.w, long_pause ? 8.0 * 0.98 + 1.0 : 0.98 * w0 + 1.0, 1e-3);
+         * to probe_min_weight (5), its spring sums with it (s = 0.28 in every sample) */
+        TV_CHECK_NEAR(dd.po.w, long_pause ? 5.0 * 0.98 + 1.0 : 0.98 * w0 + 1.0, 1e-3);
         TV_CHECK_NEAR(dd.po.ss, TV_R(0.28) * TV_R(0.28) * dd.po.w, 1e-4);
         TV_CHECK(dd.pc.w == TV_R(0.0));
         /* the away reading with the model's levels (1 + f = 1 + m = 1) */
@@ -1395,6 +1395,49 @@ static void suspect_spring(diag_detect_t *dd, diag_t *d, const diag_detect_confi
     }
 }
 
+/* The probe's reference levels (DIAG_PROBE_REF_LAG): a held plate with nothing suspected is
+ * offered the probe (diag_spring_probe() latches 1 + m and 1 + f every 32 calls); then the
+ * closing samples of suspect_spring() raise the suspicion and the probe asks for
+ * dir (pre_ref M0 + 0.65 fr_ref Mc) + c phi at phi 0.35 rad (M0 0.25, Mc 0.2, c 0.059, by hand).
+ * 100 calls at 1 + m = 1 and then 40 at 0.5 (a broken spring pulls the estimator's preload down
+ * within the move that raises the suspicion): latches at calls 32, 64, 96 (1.0) and 128 (0.5, the
+ * newest), so the probe takes 1.0: 0.25 + 0.13 + 0.02065 = 0.40065 N m (with the level of the
+ * last call, 0.5, it would be 0.27565, which held a plate without its spring in the fault matrix:
+ * all_varied 1002, drive). 140 calls at 0.5 after the 100: the latches from call 128 on hold 0.5,
+ * and the probe takes the slow change: 0.27565 N m. */
+static void test_spring_probe_reference_lag(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int late;
+    diag_detect_config_default(&cfg);
+    memset(&snap, 0, sizeof snap);
+    TV_CHECK_EQ_INT((int)DIAG_PROBE_REF_LAG, 32);
+    for (late = 40; late <= 140; late += 100) {
+        tv_real_t T = TV_R(0.0);
+        int k;
+        int n = 0;
+        diag_init(&d);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        for (k = 0; k < 100 + late; ++k) {
+            /* nothing suspected: no probe, the levels latched */
+            TV_CHECK_EQ_INT(probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), k < 100 ? TV_R(1.0) : TV_R(0.5), TV_R(1.0), &T), 0);
+        }
+        for (k = 0; k < 50; ++k) {
+            /* suspect_spring()'s closing samples, on this detector (no call of the probe) */
+            feed_closing(&dd, &d, &snap, k, TV_R(0.2));
+        }
+        TV_CHECK(dd.pc.w >= cfg.probe_min_weight && dd.pc.sy >= cfg.probe_trigger * dd.pc.ss);
+        for (k = 50; k < 50 + 4 * (int)DIAG_JAM_WINDOW && n == 0; ++k) {
+            n = probe_step(&dd, &d, &snap, k, 1, TV_R(0.35), TV_R(0.5), TV_R(1.0), &T);
+        }
+        TV_CHECK_EQ_INT(n, 1);
+        TV_CHECK_NEAR(T, late == 40 ? 0.40065 : 0.27565, 1e-6);
+    }
+}
+
 /* One sample of a plate closing from 0.8 rad by step rad per step (the jam window's history
  * first), estimated speed w, the model's spring torque 0.3 N m, unexplained torque y, the bridge
  * applying u. */
@@ -1582,11 +1625,14 @@ static void test_spring_probe(void)
     for (k = 50; k < 200; ++k) {
         TV_CHECK_EQ_INT(probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.1), TV_R(1.1), &T), 0);
     }
-    /* from a fresh start: the levels before the suspicion, 1 + m = 1.0 and 1 + f = 1.1 (kept while
-     * nothing is suspected), then closing samples with y = 0.3 s: suspected */
+    /* from a fresh start: the levels before the suspicion, 1 + m = 1.0 and 1 + f = 1.1 (latched
+     * while nothing is suspected; after 2 DIAG_PROBE_REF_LAG calls they are the probe's reference:
+     * test_spring_probe_reference_lag), then closing samples with y = 0.3 s: suspected */
     diag_init(&d);
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-    TV_CHECK_EQ_INT(probe_step(&dd, &d, &snap, 200, 1, phi, TV_R(1.0), TV_R(1.1), &T), 0);
+    for (k = 200 - 2 * (int)DIAG_PROBE_REF_LAG; k <= 200; ++k) {
+        TV_CHECK_EQ_INT(probe_step(&dd, &d, &snap, k, 1, phi, TV_R(1.0), TV_R(1.1), &T), 0);
+    }
     for (k = 201; k < 251; ++k) {
         feed_closing(&dd, &d, &snap, k, TV_R(0.3) * TV_R(0.28));
     }
@@ -1797,6 +1843,51 @@ static void test_spring_break_while_holding(void)
         }
     }
     printf("  broken spring while holding (drive, closed_steps): P1A02 at most %.0f ms after the onset\n", worst * 1e3);
+    TV_CHECK_LE(worst, 0.3);
+}
+
+/* The fault matrix's late broken springs of the release before this test (all_varied units on
+ * their class's model, spring_weak:0 at 2.0 s, seed 1, the winding temperature told): unit 1002
+ * in closed-loop driving (the plate came to rest at 0.30 rad right after the break, and the probe
+ * that followed took 1 + m as the break had already pulled it, 0.56 instead of 0.79, too little to
+ * move the plate without its spring: 1,049 ms, DIAG_PROBE_REF_LAG), units 1001 and 1004 in
+ * limp_home (the opening move of the return at 2.4 s fed the opening reading 4.8 - 5.7 samples,
+ * short of the old probe_min_weight 8: 346 and 1,249 ms after the bridge drove again). Each
+ * within 300 ms of when the actuator operates (2.0 s; limp_home: 2.4 s, the bridge off until
+ * then), and the healthy runs confirm nothing. */
+static void test_spring_break_late_units(void)
+{
+    static const uint64_t units[3] = {1002u, 1001u, 1004u};
+    static const sim_scenario_t scn[3] = {SIM_SCN_DRIVE, SIM_SCN_LIMP_HOME, SIM_SCN_LIMP_HOME};
+    static const double operates_s[3] = {2.0, 2.4, 2.4};
+    static plant_config_t pc;
+    static app_config_t ac;
+    sim_result_t r;
+    double worst = 0.0;
+    int u;
+    int k;
+    for (u = 0; u < 3; ++u) {
+        sim_result_t learn;
+        sim_options_t opt;
+        TV_CHECK(unit_config(units[u], PLANT_SPREAD_ALL, &pc, &ac, &learn));
+        sim_options_default(&opt);
+        opt.scenario = scn[u];
+        opt.duration_s = 4.0;
+        opt.plant = &pc;
+        opt.app = &ac;
+        opt.temp_reading = 1;
+        opt.temp_reading_C = opt.winding_temp_C;
+        sim_fault_run_opt(&opt, "spring_weak:0@2.0", &r);
+        TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A02]));
+        worst = fmax(worst, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A02]) ? r.dtc_confirm_t_s[DIAG_DTC_P1A02] - operates_s[u] : 1e9);
+        sim_fault_run_opt(&opt, NULL, &r);
+        for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
+            TV_CHECK(!isfinite(r.dtc_confirm_t_s[k]));
+        }
+    }
+    printf("  broken spring on all_varied 1002 (drive), 1001 and 1004 (limp_home): P1A02 at most %.0f ms after the actuator "
+           "operates\n",
+           worst * 1e3);
     TV_CHECK_LE(worst, 0.3);
 }
 
@@ -2488,9 +2579,11 @@ int main(void)
     TV_TEST_RUN(test_spring_break_within_300_ms);
     TV_TEST_RUN(test_spring_probe);
     TV_TEST_RUN(test_spring_probe_opening);
+    TV_TEST_RUN(test_spring_probe_reference_lag);
     TV_TEST_RUN(test_spring_probe_creeping);
     TV_TEST_RUN(test_spring_probe_slow_feed);
     TV_TEST_RUN(test_spring_break_while_holding);
+    TV_TEST_RUN(test_spring_break_late_units);
     TV_TEST_RUN(test_friction_plus_25_percent_identified);
     TV_TEST_RUN(test_motor_constant_signature);
     TV_TEST_RUN(test_current_gain_identified);

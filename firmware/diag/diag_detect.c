@@ -61,7 +61,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->preload_fast_friction_max = TV_R(2.0);
     cfg->friction_fast_preload_min = TV_R(0.8);
     cfg->probe_trigger = TV_R(0.1);
-    cfg->probe_min_weight = TV_R(8.0);
+    cfg->probe_min_weight = TV_R(5.0);
     cfg->probe_friction_frac = TV_R(0.65);
     cfg->probe_move_rad = TV_R(0.0015);
     cfg->param_slow_hold = 95u;
@@ -140,6 +140,8 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     dd->tq_lam = TV_R(1.0) - TV_R(1.0) / cfg->torque_tau_samples;
     dd->probe_pre_ref = TV_R(1.0);
     dd->probe_fric_ref = TV_R(1.0);
+    dd->probe_pre_lag = TV_R(1.0);
+    dd->probe_fric_lag = TV_R(1.0);
     (void)diag_detect_set_preload(dd, (tv_real_t)TV_PAPER_M0_NM, (tv_real_t)(TV_PAPER_N_GEAR * TV_PAPER_KT_NM_A));
     return TV_OK;
 }
@@ -1033,10 +1035,14 @@ int diag_spring_probe(diag_detect_t *dd, diag_t *d, int allowed, tv_real_t phi_r
     }
     /* nothing suspected: the common case, two comparisons */
     if (!reading_suspects(dd, &dd->pc) && !reading_suspects(dd, &dd->po)) {
-        /* the adapted levels as they are before a suspicion (the fault pulls them while it is seen) */
-        if (TV_IS_FINITE(preload_rel) && TV_IS_FINITE(friction_rel)) {
-            dd->probe_pre_ref = preload_rel;
-            dd->probe_fric_ref = friction_rel;
+        /* the adapted levels as they were DIAG_PROBE_REF_LAG ... 2 DIAG_PROBE_REF_LAG calls before
+         * a suspicion: the fault pulls them while it is seen, before the suspicion is raised */
+        if (TV_IS_FINITE(preload_rel) && TV_IS_FINITE(friction_rel) && ++dd->probe_lag_t >= DIAG_PROBE_REF_LAG) {
+            dd->probe_lag_t = 0u;
+            dd->probe_pre_ref = dd->probe_pre_lag;
+            dd->probe_fric_ref = dd->probe_fric_lag;
+            dd->probe_pre_lag = preload_rel;
+            dd->probe_fric_lag = friction_rel;
         }
         dd->probe_t = 0u;
         dd->probe_n = 0u; /* a sequence whose suspicion faded is over (P1A02 may pass again) */

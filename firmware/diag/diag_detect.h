@@ -430,9 +430,13 @@ typedef struct {
                                        samples of that direction) from which a held plate is probed [-], > 0;
                                        default 0.1 */
     tv_real_t probe_min_weight;   /**< ... once that direction's weight (decayed count) is at least this
-                                       [samples], > 0; default 8 (a full-range step feeds some 30 at
+                                       [samples], > 0; default 5 (a full-range step feeds some 30 at
                                        class a's slew; class b's faster slew some 10, which 15 missed:
-                                       all_varied unit 1001, closed_steps, 9.96 after 1.2 -> 0.2 rad) */
+                                       all_varied unit 1001, closed_steps, 9.96 after 1.2 -> 0.2 rad; the
+                                       opening move of limp_home's return fed class b units 4.8 - 5.7,
+                                       which 8 missed: all_varied 1001 and 1004, a broken spring
+                                       confirmed 346 and 1,249 ms after the bridge drove again, 129 and
+                                       125 ms with 5) */
     tv_real_t probe_friction_frac; /**< the probe's torque above the model's spring, as a fraction of the
                                        adapted sliding friction (1 + f) Mc [-], (0, 1); default 0.65 */
     tv_real_t probe_move_rad;     /**< the plate's motion away from limp-home within a probe that fails
@@ -543,8 +547,11 @@ typedef struct {
     diag_spring_reading_t po; /**< spring probe: its samples away from limp-home */
     tv_real_t probe_phi0;  /**< the angle at the probe's start [rad] */
     tv_real_t probe_T;     /**< the probe's torque [N m] */
-    tv_real_t probe_pre_ref;  /**< the estimator's 1 + m while nothing was suspected [-] */
-    tv_real_t probe_fric_ref; /**< the estimator's 1 + f while nothing was suspected [-] */
+    tv_real_t probe_pre_ref;  /**< the estimator's 1 + m while nothing was suspected, as latched one
+                                   DIAG_PROBE_REF_LAG before the latest latch [-] */
+    tv_real_t probe_fric_ref; /**< the estimator's 1 + f likewise [-] */
+    tv_real_t probe_pre_lag;  /**< the estimator's 1 + m at the latest latch: the next probe_pre_ref [-] */
+    tv_real_t probe_fric_lag; /**< the estimator's 1 + f at the latest latch: the next probe_fric_ref [-] */
     tv_real_t r_ratio;     /**< the last (R + dR) / R of diag_resistance_check() [-] (0: none yet) */
     tv_real_t isens_kw;    /**< the back-EMF slope kw of the last in-service window judged while the
                                 apparent resistance was below gain_r_max [A s/rad] */
@@ -568,6 +575,7 @@ typedef struct {
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint16_t offset_sig_n; /**< mechanics checks in a row that read the offset signature (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
+    uint8_t probe_lag_t;   /**< calls of diag_spring_probe() with nothing suspected since the latest latch */
     uint8_t probe_n;       /**< probes that moved the plate since the suspicion was raised */
     uint8_t probe_creep;   /**< 1: the running probe began on a plate creeping toward limp-home */
     uint8_t probe_creep_n; /**< probes begun on a creeping plate that held, since the suspicion was raised */
@@ -784,6 +792,15 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
  * limp-home too (a plate the controller pulls back after an overshoot). */
 #define DIAG_PROBE_SLOW_W_RAD_S TV_R(0.15)
 #define DIAG_PROBE_SLOW_MOVE_RAD TV_R(0.0008)
+
+/** The probe's torque takes the adapted levels 1 + m and 1 + f (probe_pre_ref, probe_fric_ref) as
+ * they were DIAG_PROBE_REF_LAG to 2 DIAG_PROBE_REF_LAG calls of diag_spring_probe() before the
+ * suspicion (latched every DIAG_PROBE_REF_LAG calls with nothing suspected, the older latch used):
+ * a broken spring pulls the estimator's preload down within the move that raises the suspicion
+ * (measured: all_varied unit 1002, closed-loop drive, 1 + m 0.79 -> 0.56 in the 20 ms before it),
+ * and a probe with that torque held the plate without its spring for DIAG_PROBE_MAX_STEPS, which
+ * ended the suspicion: P1A02 waited 1.05 s for the next move, 133 ms with the older latch. */
+#define DIAG_PROBE_REF_LAG 32u
 
 /** Steps a spring probe lasts at most (the plate held: no evidence). */
 #define DIAG_PROBE_MAX_STEPS 15u
