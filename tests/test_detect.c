@@ -46,6 +46,23 @@ static void run_with(const plant_config_t *pc, const app_config_t *ac, sim_scena
     sim_fault_run(pc, ac, scn, seed, spec, 0.0, r);
 }
 
+/* One run (seed 1) of duration_s of plant pc under ac with FAULT (NULL: healthy) from its onset,
+ * the application told the winding's temperature (the plant's), as in the fault matrix. */
+static void told_run(const plant_config_t *pc, const app_config_t *ac, const char *fault, sim_scenario_t scenario,
+                     double duration_s, sim_result_t *r)
+{
+    sim_options_t opt;
+    sim_options_default(&opt);
+    opt.duration_s = duration_s;
+    opt.scenario = scenario;
+    opt.seed = 1u;
+    opt.plant = pc;
+    opt.app = ac;
+    opt.temp_reading = 1;
+    opt.temp_reading_C = opt.winding_temp_C;
+    sim_fault_run_opt(&opt, fault, r);
+}
+
 /* A track-offset run: the faulty track's code confirmed, the other's never pending, no P2135;
  * counts it in *named and its confirmation delay after 1.0 s in *worst_s. */
 static void score_named(const sim_result_t *r, int track1, const char *what, int *named, double *worst_s)
@@ -365,15 +382,7 @@ static void test_winding_resistance_not_a_jam(void)
         sim_result_t learn;
         TV_CHECK(unit_config(units[u], PLANT_SPREAD_ALL, &pc, &ac, &learn));
         for (s = 0; s < 2; ++s) {
-            sim_options_t opt;
-            sim_options_default(&opt);
-            opt.scenario = scn[s];
-            opt.duration_s = 8.0;
-            opt.plant = &pc;
-            opt.app = &ac;
-            opt.temp_reading = 1;
-            opt.temp_reading_C = opt.winding_temp_C;
-            sim_fault_run_opt(&opt, "winding_resistance_high:2@2.0", &r);
+            told_run(&pc, &ac, "winding_resistance_high:2@2.0", scn[s], 8.0, &r);
             ++runs;
             jams += isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2111]) || isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2112]);
             p2101 += isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]);
@@ -1868,19 +1877,11 @@ static void test_spring_break_late_units(void)
     int k;
     for (u = 0; u < 3; ++u) {
         sim_result_t learn;
-        sim_options_t opt;
         TV_CHECK(unit_config(units[u], PLANT_SPREAD_ALL, &pc, &ac, &learn));
-        sim_options_default(&opt);
-        opt.scenario = scn[u];
-        opt.duration_s = 4.0;
-        opt.plant = &pc;
-        opt.app = &ac;
-        opt.temp_reading = 1;
-        opt.temp_reading_C = opt.winding_temp_C;
-        sim_fault_run_opt(&opt, "spring_weak:0@2.0", &r);
+        told_run(&pc, &ac, "spring_weak:0@2.0", scn[u], 4.0, &r);
         TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A02]));
         worst = fmax(worst, isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A02]) ? r.dtc_confirm_t_s[DIAG_DTC_P1A02] - operates_s[u] : 1e9);
-        sim_fault_run_opt(&opt, NULL, &r);
+        told_run(&pc, &ac, NULL, scn[u], 4.0, &r);
         for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
             TV_CHECK(!isfinite(r.dtc_confirm_t_s[k]));
         }
@@ -2383,23 +2384,6 @@ static void identified_run(const char *fault, sim_result_t *r)
     identified_run_in(fault, SIM_SCN_DRIVE, r);
 }
 
-/* One 12 s run (seed 1) of plant pc under ac with FAULT (NULL: healthy) from its onset, the
- * application told the winding's temperature (the plant's), as in the fault matrix. */
-static void told_run(const plant_config_t *pc, const app_config_t *ac, const char *fault, sim_scenario_t scenario,
-                     sim_result_t *r)
-{
-    sim_options_t opt;
-    sim_options_default(&opt);
-    opt.duration_s = 12.0;
-    opt.scenario = scenario;
-    opt.seed = 1u;
-    opt.plant = pc;
-    opt.app = ac;
-    opt.temp_reading = 1;
-    opt.temp_reading_C = opt.winding_temp_C;
-    sim_fault_run_opt(&opt, fault, r);
-}
-
 /* identified_run() in another scenario */
 static void identified_run_in(const char *fault, sim_scenario_t scenario, sim_result_t *r)
 {
@@ -2408,7 +2392,7 @@ static void identified_run_in(const char *fault, sim_scenario_t scenario, sim_re
     plant_config_default(&pc);
     app_config_default(&ac);
     diag_detect_config_identified(&ac.diag);
-    told_run(&pc, &ac, fault, scenario, r);
+    told_run(&pc, &ac, fault, scenario, 12.0, r);
 }
 
 /* identified_run() of each of the n faults: each confirms P1A04 within 10 s of the onset and
@@ -2460,7 +2444,7 @@ static void test_current_offset_identified_class_b(void)
     TV_CHECK_EQ_INT(sim_app_config_for_unit(PLANT_CLASS_B, &pc, &ac), TV_OK);
     diag_detect_config_identified(&ac.diag);
     for (k = 0; k < 3; ++k) {
-        told_run(&pc, &ac, fault[k], SIM_SCN_CLOSED_STEPS, &r);
+        told_run(&pc, &ac, fault[k], SIM_SCN_CLOSED_STEPS, 12.0, &r);
         for (c = 0; c < (int)DIAG_DTC_COUNT; ++c) {
             if (fault[k] == NULL) {
                 TV_CHECK(!sim_dtc_ever(&r, (diag_dtc_t)c));
