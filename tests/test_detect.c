@@ -763,6 +763,50 @@ static void first_p1a02(const diag_t *d, int k, int *pend, int *conf)
     }
 }
 
+/* DIAG_PRELOAD_BOTH_LOW / DIAG_FRICTION_BOTH_LOW: synthetic samples whose 2x2 answer is exact
+ * (feed_synthetic(), the estimator's levels at 1): a preload of 0.55 with a friction of 0.45
+ * (a = 0.45, e = -0.55) fails P1A02 although 0.55 is above preload_fast_low 0.5, and confirms;
+ * the same preload with a friction of 0.55, or a friction of 0.4 with a preload of 0.65, is
+ * judged (read exactly) and passes. The away reading is kept out (its speed bound below the
+ * samples' 2 rad/s): its opening samples read each of these spring deficits alone, and fail. */
+static void test_torque_signature_both_low(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    static const struct {
+        double a, e, pf, ff;
+        int fails;
+    } cases[] = {{0.45, -0.55, 0.55, 0.45, 1}, {0.45, -0.45, 0.55, 0.55, 0}, {0.35, -0.6, 0.65, 0.4, 0}};
+    size_t c;
+    diag_detect_config_default(&cfg);
+    memset(&snap, 0, sizeof snap);
+    TV_CHECK_NEAR(DIAG_PRELOAD_BOTH_LOW, 0.6, 1e-6);
+    TV_CHECK_NEAR(DIAG_FRICTION_BOTH_LOW, 0.5, 1e-6);
+    TV_CHECK_NEAR(cfg.preload_fast_low, 0.5, 1e-6);
+    cfg.away_w_max_rad_s = TV_R(1.0);
+    for (c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        int k;
+        int pend = -1;
+        int conf = -1;
+        diag_init(&d);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        for (k = 0; k < 3000; ++k) {
+            feed_synthetic(&dd, &d, &snap, k, (tv_real_t)cases[c].a, (tv_real_t)cases[c].e, TV_R(1.0), TV_R(1.0));
+            first_p1a02(&d, k, &pend, &conf);
+        }
+        TV_CHECK_NEAR(dd.preload_fast, cases[c].pf, 1e-4);
+        TV_CHECK_NEAR(dd.friction_fast, cases[c].ff, 1e-4);
+        if (cases[c].fails) {
+            TV_CHECK(pend >= 0 && conf == pend + 2 * (int)DIAG_PARAM_DECIM);
+            TV_CHECK_NEAR(d.code[DIAG_DTC_P1A02].freeze.value, cases[c].pf, 1e-4);
+        } else {
+            TV_CHECK(pend < 0 && conf < 0);
+        }
+    }
+}
+
 /* Opening moves alone (feed_synthetic()'s first 40 samples of each 80: w = +2 rad/s at phi =
  * 0.5..0.54 rad, moving away from limp-home) with a spring deficit a: spring and friction both
  * oppose the move, so the signature cannot split them; the AWAY READING takes the friction they
@@ -1861,21 +1905,24 @@ static void test_spring_break_while_holding(void)
  * that followed took 1 + m as the break had already pulled it, 0.56 instead of 0.79, too little to
  * move the plate without its spring: 1,049 ms, DIAG_PROBE_REF_LAG), units 1001 and 1004 in
  * limp_home (the opening move of the return at 2.4 s fed the opening reading 4.8 - 5.7 samples,
- * short of the old probe_min_weight 8: 346 and 1,249 ms after the bridge drove again). Each
- * within 300 ms of when the actuator operates (2.0 s; limp_home: 2.4 s, the bridge off until
- * then), and the healthy runs confirm nothing. */
+ * short of the old probe_min_weight 8: 346 and 1,249 ms after the bridge drove again), and units
+ * 1001 and 1004 in the 12 V sine (389 and 379 ms: the signature's preload fell below 0.5 over four
+ * half-periods; with its friction read far below the model's too, DIAG_FRICTION_BOTH_LOW, it fails
+ * from 0.6). Each within 300 ms of when the actuator operates (2.0 s; limp_home: 2.4 s, the
+ * bridge off until then), and the healthy runs confirm nothing. */
 static void test_spring_break_late_units(void)
 {
-    static const uint64_t units[3] = {1002u, 1001u, 1004u};
-    static const sim_scenario_t scn[3] = {SIM_SCN_DRIVE, SIM_SCN_LIMP_HOME, SIM_SCN_LIMP_HOME};
-    static const double operates_s[3] = {2.0, 2.4, 2.4};
+    static const uint64_t units[5] = {1002u, 1001u, 1004u, 1001u, 1004u};
+    static const sim_scenario_t scn[5] = {SIM_SCN_DRIVE, SIM_SCN_LIMP_HOME, SIM_SCN_LIMP_HOME, SIM_SCN_PAPER_SINE,
+                                          SIM_SCN_PAPER_SINE};
+    static const double operates_s[5] = {2.0, 2.4, 2.4, 2.0, 2.0};
     static plant_config_t pc;
     static app_config_t ac;
     sim_result_t r;
     double worst = 0.0;
     int u;
     int k;
-    for (u = 0; u < 3; ++u) {
+    for (u = 0; u < 5; ++u) {
         sim_result_t learn;
         TV_CHECK(unit_config(units[u], PLANT_SPREAD_ALL, &pc, &ac, &learn));
         told_run(&pc, &ac, "spring_weak:0@2.0", scn[u], 4.0, &r);
@@ -1886,8 +1933,8 @@ static void test_spring_break_late_units(void)
             TV_CHECK(!isfinite(r.dtc_confirm_t_s[k]));
         }
     }
-    printf("  broken spring on all_varied 1002 (drive), 1001 and 1004 (limp_home): P1A02 at most %.0f ms after the actuator "
-           "operates\n",
+    printf("  broken spring on all_varied 1002 (drive), 1001 and 1004 (limp_home, 12 V sine): P1A02 at most %.0f ms after the "
+           "actuator operates\n",
            worst * 1e3);
     TV_CHECK_LE(worst, 0.3);
 }
@@ -2554,6 +2601,7 @@ int main(void)
     TV_TEST_RUN(test_mechanics_check_timing);
     TV_TEST_RUN(test_torque_signature);
     TV_TEST_RUN(test_torque_signature_ambiguous);
+    TV_TEST_RUN(test_torque_signature_both_low);
     TV_TEST_RUN(test_away_reading);
     TV_TEST_RUN(test_away_stale);
     TV_TEST_RUN(test_torque_pause);

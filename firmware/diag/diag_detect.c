@@ -787,7 +787,10 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
             const tv_real_t share = (preload_rel - TV_R(1.0)) * dd->m0_Nm * dd->aw_w;
             fa = friction_rel * (TV_R(1.0) + (dd->aw_fy + (share > TV_R(0.0) ? share : TV_R(0.0))) / dd->aw_fs);
         }
-        const int low = fast && pf < dd->cfg.preload_fast_low && ff <= dd->cfg.preload_fast_friction_max;
+        /* the signature's preload below its bound, or below DIAG_PRELOAD_BOTH_LOW with its friction
+         * far below the model's too (DIAG_FRICTION_BOTH_LOW: the spring's lost torque along the motion) */
+        const int low = fast && ((pf < dd->cfg.preload_fast_low && ff <= dd->cfg.preload_fast_friction_max) ||
+                                 (pf < DIAG_PRELOAD_BOTH_LOW && ff < DIAG_FRICTION_BOTH_LOW));
         if (low && ff > DIAG_PRELOAD_FAST_CLEAR) {
             dd->fast_m_amb = (uint8_t)(dd->fast_m_amb + (dd->fast_m_amb < 0xFFu ? 1u : 0u));
         } else if (fast) {

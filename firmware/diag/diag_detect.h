@@ -65,7 +65,8 @@
  *     forgetting (torque_tau_samples), fed only while the plate slides (see its conditions). At
  *     each check the 2x2 solve gives a spring deficit a and a friction excess e, i.e. a preload
  *     (1 + m)(1 - a) and a friction (1 + f)(1 + e): below preload_fast_low fails P1A02 (while the
- *     signature's friction is at most preload_fast_friction_max), above friction_fast_high fails
+ *     signature's friction is at most preload_fast_friction_max; or below DIAG_PRELOAD_BOTH_LOW
+ *     with the friction below DIAG_FRICTION_BOTH_LOW), above friction_fast_high fails
  *     P2119 (while its preload is at least friction_fast_preload_min and 1 + f at least
  *     friction_fast_level_min). Judged only when fed within DIAG_TORQUE_FRESH steps, with enough
  *     weight, non-collinear regressors (torque_corr_max), small sigmas of f and m, and no
@@ -785,6 +786,19 @@ void diag_torque_feed(diag_detect_t *dd, int active, tv_real_t w_rad_s, tv_real_
 #define DIAG_PRELOAD_FAST_CLEAR TV_R(1.3)
 /** Ambiguous signature checks in a row (DIAG_PRELOAD_FAST_CLEAR) before they fail P1A02. */
 #define DIAG_PRELOAD_FAST_AMBIG_HOLD 3u
+
+/** The signature's preload below DIAG_PRELOAD_BOTH_LOW [-] with its friction below
+ * DIAG_FRICTION_BOTH_LOW [-] fails P1A02 too (whatever preload_fast_low). A broken spring in fast
+ * motion leaves a torque along the motion that the 2x2 solve splits between the spring column
+ * and a friction deficit: in the 12 V sine on class b units (all_varied 1001, 1004; a few fed
+ * samples per half-period, so the preload falls over four of them) the friction read 0.50 and
+ * -0.08 with preloads of 0.55 and 0.54, 100 - 110 ms before the preload crossed 0.5. No fault
+ * lowers the friction, and a healthy unit low on both is one at the corner of the spread (less
+ * preload and less friction than its class): the lowest healthy readings of 2,430 soak runs of
+ * 20 s with a preload below 0.65 had a friction of 0.648 or more (0.6485 with 0.6482; 0.559 with
+ * 0.860). */
+#define DIAG_PRELOAD_BOTH_LOW TV_R(0.6)
+#define DIAG_FRICTION_BOTH_LOW TV_R(0.5)
 
 /** A sample too slow for the signature (diag_torque_feed()) still feeds the spring probe's closing
  * reading while it moves toward limp-home with |w| >= DIAG_PROBE_SLOW_W_RAD_S [rad/s], the angle
