@@ -763,6 +763,23 @@ static void first_p1a02(const diag_t *d, int k, int *pend, int *conf)
     }
 }
 
+/* A fresh detector fed n synthetic samples (feed_synthetic(), sample k % k_mod, or k when k_mod is
+ * 0) of a spring deficit a and a friction excess e at the estimator's levels pre and fr; the
+ * first samples at which P1A02 went pending and confirmed (-1: never). */
+static void synthetic_p1a02(diag_detect_t *dd, diag_t *d, const diag_detect_config_t *cfg, diag_snapshot_t *snap, int n,
+                            int k_mod, double a, double e, double pre, double fr, int *pend, int *conf)
+{
+    int k;
+    *pend = -1;
+    *conf = -1;
+    diag_init(d);
+    TV_CHECK_EQ_INT(diag_detect_init(dd, cfg), TV_OK);
+    for (k = 0; k < n; ++k) {
+        feed_synthetic(dd, d, snap, k_mod > 0 ? k % k_mod : k, (tv_real_t)a, (tv_real_t)e, (tv_real_t)pre, (tv_real_t)fr);
+        first_p1a02(d, k, pend, conf);
+    }
+}
+
 /* DIAG_PRELOAD_BOTH_LOW / DIAG_FRICTION_BOTH_LOW: synthetic samples whose 2x2 answer is exact
  * (feed_synthetic(), the estimator's levels at 1): a preload of 0.55 with a friction of 0.45
  * (a = 0.45, e = -0.55) fails P1A02 although 0.55 is above preload_fast_low 0.5, and confirms;
@@ -787,15 +804,9 @@ static void test_torque_signature_both_low(void)
     TV_CHECK_NEAR(cfg.preload_fast_low, 0.5, 1e-6);
     cfg.away_w_max_rad_s = TV_R(1.0);
     for (c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
-        int k;
-        int pend = -1;
-        int conf = -1;
-        diag_init(&d);
-        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-        for (k = 0; k < 3000; ++k) {
-            feed_synthetic(&dd, &d, &snap, k, (tv_real_t)cases[c].a, (tv_real_t)cases[c].e, TV_R(1.0), TV_R(1.0));
-            first_p1a02(&d, k, &pend, &conf);
-        }
+        int pend;
+        int conf;
+        synthetic_p1a02(&dd, &d, &cfg, &snap, 3000, 0, cases[c].a, cases[c].e, 1.0, 1.0, &pend, &conf);
         TV_CHECK_NEAR(dd.preload_fast, cases[c].pf, 1e-4);
         TV_CHECK_NEAR(dd.friction_fast, cases[c].ff, 1e-4);
         if (cases[c].fails) {
@@ -842,16 +853,9 @@ static void test_away_reading(void)
     diag_detect_config_default(&cfg);
     memset(&snap, 0, sizeof snap);
     for (c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
-        int k;
-        int pend = -1;
-        int conf = -1;
-        diag_init(&d);
-        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-        for (k = 0; k < 2000; ++k) {
-            feed_synthetic(&dd, &d, &snap, k % 40, (tv_real_t)cases[c].a, TV_R(0.0), (tv_real_t)cases[c].pre_rel,
-                           (tv_real_t)cases[c].fr_rel);
-            first_p1a02(&d, k, &pend, &conf);
-        }
+        int pend;
+        int conf;
+        synthetic_p1a02(&dd, &d, &cfg, &snap, 2000, 40, cases[c].a, 0.0, cases[c].pre_rel, cases[c].fr_rel, &pend, &conf);
         TV_CHECK(dd.preload_fast == TV_R(0.0)); /* the 2x2 signature never judged: collinear */
         if (cases[c].fails_at > 0.0) {
             /* fed from sample 7 (the jam window's 8 angles); the weight 50 (1 - 0.98^n) reaches
