@@ -1422,14 +1422,35 @@ static double run_noisy(ekf_t *f, long n, double noise_i, double noise_phi, doub
     return st.nis_current;
 }
 
-/* The next prediction of f (at 6 V) equals that of a filter set up with cs (the inflation off, Q
- * scaled by hand) given the same estimate. */
-static void check_next_prediction_as_scaled_q(ekf_t *f, const tvm_params_t *p, const ekf_config_t *cs)
+/* One period of f at rest (0 V): the prediction, then a correction with the measurements at the
+ * predicted estimate plus di_A (current) and dphi_rad (angle). */
+static void step_at_rest(ekf_t *f, double di_A, double dphi_rad, ekf_innov_t *in)
 {
+    ekf_meas_t m;
+    TV_CHECK_EQ_INT(ekf_predict(f, 0.0), TV_OK);
+    m.z[EKF_CH_CURRENT] = (tv_real_t)((double)f->x[0] + di_A);
+    m.z[EKF_CH_VELOCITY] = 0.0;
+    m.z[EKF_CH_ANGLE] = (tv_real_t)((double)f->x[2] + dphi_rad);
+    TV_CHECK_EQ_INT(ekf_correct(f, &m, in), TV_OK);
+}
+
+/* The next prediction of f (at 6 V) equals that of a filter set up with cfg but the inflation off
+ * and Q's entries from row and column `first` on (0: all of Q; 1: the plate's block) times
+ * factor, by hand, given the same estimate. */
+static void check_next_prediction_as_scaled_q(ekf_t *f, const tvm_params_t *p, const ekf_config_t *cfg, int first,
+                                              double factor)
+{
+    ekf_config_t cs = *cfg;
     ekf_t fref;
     int a;
     int b;
-    TV_CHECK_EQ_INT(ekf_init(&fref, p, cs), TV_OK);
+    cs.nis_inflate_alpha = TV_R(0.0);
+    for (a = first; a < 3; ++a) {
+        for (b = first; b < 3; ++b) {
+            cs.Q[a][b] = (tv_real_t)(factor * (double)cfg->Q[a][b]);
+        }
+    }
+    TV_CHECK_EQ_INT(ekf_init(&fref, p, &cs), TV_OK);
     memcpy(fref.x, f->x, sizeof f->x);
     memcpy(fref.P, f->P, sizeof f->P);
     memcpy(fref.aug, f->aug, sizeof f->aug);
@@ -1475,7 +1496,6 @@ static void test_consistency_driven_inflation(void)
     double pw_on;
     int n_inflated = 0;
     int a;
-    int b;
     tvm_params_default(&p);
     ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
     TV_CHECK_NEAR(cfg.nis_inflate_alpha, 0.02, 1e-12);
@@ -1490,11 +1510,7 @@ static void test_consistency_driven_inflation(void)
      * 0.5 rad off counts as NIS 9 (the clip), not its millions; a current 5 A off likewise; a
      * current 2 sigma off as its NIS 4 */
     for (a = 0; a < 200; ++a) {
-        TV_CHECK_EQ_INT(ekf_predict(&f, 0.0), TV_OK);
-        m.z[EKF_CH_CURRENT] = f.x[0];
-        m.z[EKF_CH_VELOCITY] = 0.0;
-        m.z[EKF_CH_ANGLE] = f.x[2];
-        TV_CHECK_EQ_INT(ekf_correct(&f, &m, &in), TV_OK);
+        step_at_rest(&f, 0.0, 0.0, &in);
     }
     TV_CHECK_NEAR(f.q_scale, 1.0, 0.0);
     avg = (double)f.nis_avg;
@@ -1532,10 +1548,7 @@ static void test_consistency_driven_inflation(void)
     /* the average is back to a few times 1 at most: push it over the threshold with 30 more
      * corrections 5 A off, so that the prediction below is an inflated one */
     for (a = 0; a < 30; ++a) {
-        TV_CHECK_EQ_INT(ekf_predict(&f, 0.0), TV_OK);
-        m.z[EKF_CH_CURRENT] = (tv_real_t)((double)f.x[0] + 5.0);
-        m.z[EKF_CH_ANGLE] = f.x[2];
-        TV_CHECK_EQ_INT(ekf_correct(&f, &m, &in), TV_OK);
+        step_at_rest(&f, 5.0, 0.0, &in);
         v = 0.5 * (fmin((double)in.nis[EKF_CH_CURRENT], 9.0) + fmin((double)in.nis[EKF_CH_ANGLE], 9.0));
         avg += 0.02 * (v - avg);
         n_inflated += avg > 1.2;
@@ -1547,16 +1560,7 @@ static void test_consistency_driven_inflation(void)
     TV_CHECK(want > 1.5);
     /* the next prediction is that of a filter set up with the inflation off and Q times the
      * factor (ekf_init), given the same estimate */
-    {
-        ekf_config_t cs = cfg;
-        cs.nis_inflate_alpha = TV_R(0.0);
-        for (a = 0; a < 3; ++a) {
-            for (b = 0; b < 3; ++b) {
-                cs.Q[a][b] = (tv_real_t)(want * (double)cfg.Q[a][b]);
-            }
-        }
-        check_next_prediction_as_scaled_q(&f, &p, &cs);
-    }
+    check_next_prediction_as_scaled_q(&f, &p, &cfg, 0, want);
     ekf_health(&f, &h);
     TV_CHECK_EQ_INT(h.n_q_inflated, n_inflated); /* the corrections whose average exceeded 1.2 */
     TV_CHECK(n_inflated > 0);
@@ -1617,7 +1621,6 @@ static void test_whiteness_driven_inflation(void)
     ekf_config_t cfg;
     ekf_t f;
     ekf_t fref;
-    ekf_meas_t m;
     ekf_innov_t in;
     ekf_health_t h;
     double mean = 0.0;
@@ -1630,7 +1633,6 @@ static void test_whiteness_driven_inflation(void)
     double z2_off;
     int n_inflated = 0;
     int a;
-    int b;
     tvm_params_default(&p);
     ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);
     TV_CHECK_NEAR(cfg.white_threshold, 0.0, 0.0); /* off by default; its trained setting 16 */
@@ -1644,11 +1646,7 @@ static void test_whiteness_driven_inflation(void)
      * for 150 corrections: a bias the innovations' mean shows while each NIS stays small */
     bias = 1.5 * sqrt((double)cfg.r[EKF_CH_ANGLE]);
     for (a = 0; a < 350; ++a) {
-        TV_CHECK_EQ_INT(ekf_predict(&f, 0.0), TV_OK);
-        m.z[EKF_CH_CURRENT] = f.x[0];
-        m.z[EKF_CH_VELOCITY] = 0.0;
-        m.z[EKF_CH_ANGLE] = (tv_real_t)((double)f.x[2] + (a >= 200 ? bias : 0.0));
-        TV_CHECK_EQ_INT(ekf_correct(&f, &m, &in), TV_OK);
+        step_at_rest(&f, 0.0, a >= 200 ? bias : 0.0, &in);
         mean += 0.02 * ((double)in.innov[EKF_CH_ANGLE] - mean);
         k = mean * mean * (2.0 - 0.02) / (0.02 * 16.0 * (double)in.innov_var[EKF_CH_ANGLE]);
         want = k > 1.0 ? fmin(k, 100.0) : 1.0;
@@ -1664,10 +1662,7 @@ static void test_whiteness_driven_inflation(void)
     }
     TV_CHECK(want > 2.0);
     /* one angle 0.5 rad off: the mean takes it clipped at 3 sigma, alpha 3 sqrt(S) */
-    TV_CHECK_EQ_INT(ekf_predict(&f, 0.0), TV_OK);
-    m.z[EKF_CH_CURRENT] = f.x[0];
-    m.z[EKF_CH_ANGLE] = (tv_real_t)((double)f.x[2] + 0.5);
-    TV_CHECK_EQ_INT(ekf_correct(&f, &m, &in), TV_OK);
+    step_at_rest(&f, 0.0, 0.5, &in);
     TV_CHECK(in.nis[EKF_CH_ANGLE] > TV_R(1e4));
     mean += 0.02 * (3.0 * sqrt((double)in.innov_var[EKF_CH_ANGLE]) - mean);
     k = mean * mean * (2.0 - 0.02) / (0.02 * 16.0 * (double)in.innov_var[EKF_CH_ANGLE]);
@@ -1682,18 +1677,9 @@ static void test_whiteness_driven_inflation(void)
     TV_CHECK_NEAR(h.q_scale_plate, want, 1e-9 * want);
     /* the next prediction is that of a filter with the inflation off and Q's plate block times
      * the factor (Q has no current-plate terms), given the same estimate */
-    {
-        ekf_config_t cs = cfg;
-        cs.nis_inflate_alpha = TV_R(0.0);
-        for (a = 1; a < 3; ++a) {
-            for (b = 1; b < 3; ++b) {
-                cs.Q[a][b] = (tv_real_t)(want * (double)cfg.Q[a][b]);
-            }
-        }
-        TV_CHECK_NEAR(cfg.Q[0][1], 0.0, 0.0);
-        TV_CHECK_NEAR(cfg.Q[0][2], 0.0, 0.0);
-        check_next_prediction_as_scaled_q(&f, &p, &cs);
-    }
+    TV_CHECK_NEAR(cfg.Q[0][1], 0.0, 0.0);
+    TV_CHECK_NEAR(cfg.Q[0][2], 0.0, 0.0);
+    check_next_prediction_as_scaled_q(&f, &p, &cfg, 1, want);
     /* (2) own model, true noise: nearly never; a unit that is not the model: engaged, and the
      * velocity's squared error per variance lower than with it off */
     ekf_config_default(&cfg, EKF_SETUP_CURRENT_ANGLE);

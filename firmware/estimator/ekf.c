@@ -297,7 +297,8 @@ int ekf_init(ekf_t *ekf, const tvm_params_t *params, const ekf_config_t *cfg)
         !(cfg->f_abs_max > TV_R(0.0) && cfg->f_abs_max < TV_R(1.0)) || cfg->f_excite_rad_s < TV_R(0.0) ||
         cfg->qm_1_s < TV_R(0.0) || cfg->m_sigma0 < TV_R(0.0) || !(cfg->m_abs_max > TV_R(0.0) && cfg->m_abs_max < TV_R(1.0)) ||
         cfg->nis_inflate_alpha < TV_R(0.0) || cfg->nis_inflate_alpha > TV_R(1.0) || !(cfg->nis_inflate_threshold > TV_R(0.0)) ||
-        !(cfg->nis_inflate_max >= TV_R(1.0)) || cfg->white_threshold < TV_R(0.0) || !(cfg->stuck_q_min > TV_R(0.0)) || cfg->stuck_q_min > TV_R(1.0) ||
+        !(cfg->nis_inflate_max >= TV_R(1.0)) || cfg->white_threshold < TV_R(0.0) ||
+        !(cfg->stuck_q_min > TV_R(0.0)) || cfg->stuck_q_min > TV_R(1.0) ||
         !(cfg->stuck_hold_frac > TV_R(0.0)) || cfg->stuck_hold_frac > TV_R(1.0)) {
         return TV_ERR_CONFIG;
     }
