@@ -174,6 +174,28 @@ static void test_bridge_rule(void)
     TV_CHECK_EQ_INT(d.code[DIAG_DTC_P1A03].freeze.t_us, 10000u);
     TV_CHECK_EQ_INT(diag_action(&d), DIAG_ACTION_SAFE);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P2100) && !diag_confirmed(&d, DIAG_DTC_P2100));
+    /* ... and while the plate brakes, as long as the back-EMF opposes u by no more than
+     * DIAG_BRIDGE_BRAKE_FRAC |u| (e = -1.5 V: -1.5 x 6 = -0.25 x 6^2 exactly; the shorted winding
+     * carries 0.3 A, v = -1.5 + (0.3 - 0.03) x 5 = -0.15 V): confirmed at the 10th sample */
+    fresh(&d, &dd);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);
+    for (k = 1; k <= 10; ++k) {
+        TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P1A03));
+        diag_open_check(&dd, &d, 1, TV_R(6.0), TV_R(-1.5), 1, TV_R(-1.5), TV_R(0.3), &s);
+    }
+    TV_CHECK(diag_confirmed(&d, DIAG_DTC_P1A03));
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P1A03].freeze.value, -0.15 / 6.0, 1e-5);
+    /* braking harder (e = -1.6 V, 0.32 A: v = -0.16 V) is not judged, and neither is a winding of
+     * twice the model's R braking at e = -3 V (0.9 A: v = -3 + (0.9 - 0.09) x 5 = 1.05 V, v / u
+     * 0.175 < 0.25: it failed before DIAG_BRIDGE_BRAKE_FRAC, all_varied unit 1000's R x 2) */
+    fresh(&d, &dd);
+    TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);
+    for (k = 0; k < 20; ++k) {
+        diag_open_check(&dd, &d, 1, TV_R(6.0), TV_R(-1.6), 1, TV_R(-1.6), TV_R(0.32), &s);
+        diag_open_check(&dd, &d, 1, TV_R(6.0), TV_R(-3.0), 1, TV_R(-3.0), TV_R(0.9), &s);
+    }
+    TV_CHECK_EQ_INT(d.code[DIAG_DTC_P1A03].counter, 0);
+    TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P1A03) && !diag_pending(&d, DIAG_DTC_P2100) && !diag_confirmed(&d, DIAG_DTC_P2100));
     /* ... unless the back-EMF is the larger (|e| > |u|): not judged */
     fresh(&d, &dd);
     TV_CHECK_EQ_INT(diag_detect_set_armature(&dd, TV_R(0.1), TV_R(0.2)), TV_OK);

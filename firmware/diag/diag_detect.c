@@ -360,8 +360,13 @@ void diag_open_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t u_V, tv
             if (judged && TV_FABS(emf_meas_V) <= au) {
                 diag_result_t r = DIAG_NOT_RUN;
                 if (no_volt) {
-                    r = DIAG_FAIL; /* current, but no voltage at the terminals: shorted by the bridge */
-                    dd->dead_dir = dir;
+                    /* current, but no voltage at the terminals: shorted by the bridge; not judged
+                     * while the plate brakes hard, where a winding of twice the model's R reads as
+                     * little (DIAG_BRIDGE_BRAKE_FRAC) */
+                    if (emf_meas_V * u_V >= -DIAG_BRIDGE_BRAKE_FRAC * au * au) {
+                        r = DIAG_FAIL;
+                        dd->dead_dir = dir;
+                    }
                 } else if (dd->dead_dir == -dir) {
                     /* the other direction works: after no current in the suspected one (the
                      * reverse pulse's answer), that direction is lost */
