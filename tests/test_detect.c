@@ -2418,6 +2418,15 @@ static void test_offset_signature(void)
     TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.2), TV_R(1.0), TV_R(1.0), 60, 0, &d), 0);
     TV_CHECK(diag_confirmed(&d, DIAG_DTC_P2101));
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+    /* R's excess at most DIAG_ISENS_SIG_EXCESS_PER_DEFICIT (6) times the level's deficit: 0.25
+     * with the preload 0.05 low (an offset, 6 x 0.05 = 0.3) P1A04; 0.35 or a doubled winding (1.0)
+     * with the same dip not: P2101 (identified unit 1004, closed-loop steps, R x 2: 30 checks of
+     * the reading held while the estimator caught up, P1A04 confirmed before P2101) */
+    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.25), TV_R(1.0), TV_R(0.95), 60, 0, &d), 35);
+    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(1.35), TV_R(1.0), TV_R(0.95), 60, 0, &d), 0);
+    TV_CHECK(diag_confirmed(&d, DIAG_DTC_P2101) && !diag_pending(&d, DIAG_DTC_P1A04));
+    TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(2.0), TV_R(1.0), TV_R(0.95), 60, 0, &d), 0);
+    TV_CHECK(diag_confirmed(&d, DIAG_DTC_P2101) && !diag_pending(&d, DIAG_DTC_P1A04));
     TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(0.9), TV_R(1.0), TV_R(1.05), 60, 0, &d), 35);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A01) && !diag_confirmed(&d, DIAG_DTC_P1A01));
     TV_CHECK_EQ_INT(offset_case(1, 1, TV_R(0.9), TV_R(1.05), TV_R(1.05), 60, 0, &d), 0);

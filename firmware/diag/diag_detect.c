@@ -704,10 +704,18 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
              * second after a resistance step), and its deficit must exceed the resistance's
              * excess: a gain g moves R by 1 / g - 1 and the friction by several times 1 - g, while
              * a resistance step dips the friction by a fraction of its own step (class b, R x2:
-             * 1 + f 0.943 for a second) */
-            dd->mech_low = dd->cfg.identified && (preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ||
-                                                  (friction_rel < dd->cfg.isens_sig_friction_low &&
-                                                   TV_R(1.0) - friction_rel > dd->r_ratio - TV_R(1.0))) ? 1u : 0u;
+             * 1 + f 0.943 for a second); and R's excess at most DIAG_ISENS_SIG_EXCESS_PER_DEFICIT
+             * times the larger deficit (a raised winding moves R alone, the levels dipping a few
+             * per cent while the estimator catches up). Low levels hold P2101 as well
+             * (diag_resistance_check()): not where they cannot explain R */
+            const tv_real_t deficit = TV_R(1.0) - (preload_rel < friction_rel ? preload_rel : friction_rel);
+            dd->mech_low = dd->cfg.identified &&
+                                   (preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ||
+                                    (friction_rel < dd->cfg.isens_sig_friction_low &&
+                                     TV_R(1.0) - friction_rel > dd->r_ratio - TV_R(1.0))) &&
+                                   dd->r_ratio - TV_R(1.0) <= DIAG_ISENS_SIG_EXCESS_PER_DEFICIT * deficit
+                               ? 1u
+                               : 0u;
         }
         /* Three readings: R high with a level low and the friction in its healthy range (a
          * jam's drag, far above, is no sensor); R low with the preload up and the friction as it

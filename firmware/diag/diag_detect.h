@@ -206,8 +206,9 @@
  *     known (else it may be a warm winding, and a weak spring lowers 1 + m) and 1 + m below
  *     1 / gain_mech_min or 1 + f below isens_sig_friction_low with a deficit larger than R's
  *     excess, 1 + f within its healthy range (friction_high_rel: a jam's drag, far above, is not
- *     the sensor; a gain below 1 lowers both levels, and in the 12 V sine the friction alone), or
- *     1 + m above gain_mech_min and 1 + f within 1 / gain_mech_min ... gain_mech_min (a gain
+ *     the sensor; a gain below 1 lowers both levels, and in the 12 V sine the friction alone) and
+ *     R's excess at most DIAG_ISENS_SIG_EXCESS_PER_DEFICIT times the larger deficit (a raised
+ *     winding moves R alone), or 1 + m above gain_mech_min and 1 + f within 1 / gain_mech_min ... gain_mech_min (a gain
  *     above 1 and shorted turns raise the friction with the preload: the motor-constant
  *     signature's case) with the apparent resistance below gain_r_max, or not above
  *     1 / gain_r_max while no P1A02 or P2119 is pending or confirmed (no fault raises a spring,
@@ -252,6 +253,17 @@ extern "C" {
  * whatever e); the fault matrix's 300 lost directions all confirmed P1A03 as before, 0 - 18 ms
  * later (README "P1A03 and a braking doubled winding"). */
 #define DIAG_BRIDGE_BRAKE_FRAC TV_R(0.25)
+
+/** OFFSET SIGNATURE, R read high: the resistance's excess (R + dR) / R - 1 at most this times the
+ * larger of the preload's and the friction's deficits, 1 - (1 + m) and 1 - (1 + f). An offset b
+ * moves both by about n Kt b / M0 on a plate held against its preload (R reads i / (i - b) times
+ * its value) and R by less where the currents are larger; a gain below 1 moves the friction
+ * several times as much as R; a raised winding moves R alone, the levels dipping by a few per
+ * cent while the estimator catches up. Measured on the fault matrix's identified units (every
+ * check of the reading, 350 runs: offsets -50 mA and +0.1 A, gain -5 %, R x1.25, x1.5, x2):
+ * offsets and gains at most 3.9, raised windings at least 9.9 (R x2 on unit 1004 in closed-loop
+ * steps had held the reading 30 checks and confirmed P1A04 before P2101). */
+#define DIAG_ISENS_SIG_EXCESS_PER_DEFICIT TV_R(6.0)
 
 /** The adapted-mechanics check runs every this many calls of diag_param_check() (10 ms at 1 kHz). */
 #define DIAG_PARAM_DECIM 10u
