@@ -116,8 +116,8 @@
  *     floating back-EMF); a healthy bridge gives v about u. With |current| >= open_i_max_A and
  *     |e| <= |u|: |v| < bridge_lost_frac |u| fails P1A03 (and passes P2100: the winding
  *     conducts) unless the plate brakes hard (e u < -DIAG_BRIDGE_BRAKE_FRAC u^2: a doubled
- *     winding reads as little there; not judged), else passes a pending or confirmed P1A03 (this direction works; an idle code is
- *     not reported: a pass would change nothing). No current while the plate moves
+ *     winding reads as little there; not judged), else passes a pending or confirmed P1A03 (this
+ *     direction works; an idle code is not reported: a pass would change nothing). No current while the plate moves
  *     (|v| >= bridge_lost_frac |u|: the floating back-EMF): P2100 fails (open). No current and no
  *     motion (|v| < bridge_lost_frac |u|): both faults look alike (nothing flows, nothing moves;
  *     the terminal voltage is not measured): P2100 fails as before (its 10 ms target), the
@@ -208,9 +208,9 @@
  *     excess, 1 + f within its healthy range (friction_high_rel: a jam's drag, far above, is not
  *     the sensor; a gain below 1 lowers both levels, and in the 12 V sine the friction alone) and
  *     R's excess at most DIAG_ISENS_SIG_EXCESS_PER_DEFICIT times the larger deficit (a raised
- *     winding moves R alone), or 1 + m above gain_mech_min and 1 + f within 1 / gain_mech_min ... gain_mech_min (a gain
- *     above 1 and shorted turns raise the friction with the preload: the motor-constant
- *     signature's case) with the apparent resistance below gain_r_max, or not above
+ *     winding moves R alone), or 1 + m above gain_mech_min and 1 + f within 1 / gain_mech_min ...
+ *     gain_mech_min (a gain above 1 and shorted turns raise the friction with the preload: the
+ *     motor-constant signature's case) with the apparent resistance below gain_r_max, or not above
  *     1 / gain_r_max while no P1A02 or P2119 is pending or confirmed (no fault raises a spring,
  *     and on class b's larger holding currents +50 mA moves R by only 1 - 3 %: README "The
  *     preload up without the resistance"; the low side keeps its resistance term, a preload a
