@@ -2510,6 +2510,52 @@ static void test_current_offset_identified(void)
                     "current offset -0.1 / +0.1 A, gain -10 %");
 }
 
+/* The in-service window's intercept bound on identified units (diag_detect_config_identified():
+ * 0.025 A against the default 0.035): scripted windows whose intercept is 0.030 A (the reading of
+ * a 50 mA offset in the 12 V sine of identified class b units 1001, 1004 and 1007: -0.030 ...
+ * -0.034) pass with the default bounds and confirm P1A04 at the 6th window with the identified
+ * ones; 0.020 A passes both (healthy identified units read within 0.013 in every scenario but
+ * single windows of closed-loop driving). */
+static void test_current_offset_bound_identified(void)
+{
+    static const double b[2] = {0.030, 0.020};
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_snapshot_t snap;
+    int m;
+    memset(&snap, 0, sizeof snap);
+    for (m = 0; m < 4; ++m) {
+        const int ident = m & 1;
+        const tv_real_t bias = (tv_real_t)b[m >> 1];
+        diag_detect_config_t cfg;
+        int k;
+        int first = -1;
+        diag_detect_config_default(&cfg);
+        if (ident) {
+            diag_detect_config_identified(&cfg);
+        }
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        diag_init(&d);
+        for (k = 0; k < 10 * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE && first < 0; ++k) {
+            const tv_real_t i = isens_i(k);
+            const tv_real_t w = isens_w(k);
+            const tv_real_t y = -bias + TV_R(0.2) * i + TV_R(0.01) * w;
+            diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap);
+            if (diag_confirmed(&d, DIAG_DTC_P1A04)) {
+                first = k;
+            }
+        }
+        if (ident && m >> 1 == 0) {
+            /* the first DIAG_ISENS_SETTLE - 1 calls do not count: the 3,000th counted sample */
+            TV_CHECK_EQ_INT(first, 6 * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE - 2);
+            TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, -0.030, 1e-4);
+        } else {
+            TV_CHECK_EQ_INT(first, -1);
+            TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+        }
+    }
+}
+
 /* The same on class b's nominal unit with its own model (an identified class b unit):
  * closed-loop steps, +50 mA and +100 mA from 1.0 s. Its holding currents (about 1 A) move the
  * apparent resistance by only 1 - 3 %, inside gain_r_max's margin, while the adapted preload
@@ -2663,6 +2709,7 @@ int main(void)
     TV_TEST_RUN(test_winding_short_20_identified);
     TV_TEST_RUN(test_offset_signature);
     TV_TEST_RUN(test_current_offset_identified);
+    TV_TEST_RUN(test_current_offset_bound_identified);
     TV_TEST_RUN(test_current_offset_identified_class_b);
     TV_TEST_RUN(test_no_code_confirmed_on_healthy_units);
     return tv_test_summary();

@@ -88,6 +88,7 @@ void diag_detect_config_identified(diag_detect_config_t *cfg)
     cfg->friction_high_rel = TV_R(1.15);
     cfg->r_high_frac_known = TV_R(1.15);
     cfg->r_low_frac_known = TV_R(0.85);
+    cfg->isens_bias_max_A = TV_R(0.025);
     cfg->identified = 1u;
 }
 

@@ -388,7 +388,10 @@ typedef struct {
                                        default 0.02 (the mean of 32 samples of a healthy sensor: noise
                                        10 mA and 8-11 mA counts, sigma about 2 mA) */
     tv_real_t isens_bias_max_A;   /**< |intercept| of the in-service window above which P1A04 fails [A], > 0;
-                                       default 0.035 (README: healthy population) */
+                                       default 0.035 (README: healthy population); 0.025 in
+                                       diag_detect_config_identified() (a 50 mA offset reads 0.030 -
+                                       0.034 there, healthy identified units within 0.013 but for
+                                       single windows in closed-loop driving) */
     tv_real_t isens_vif_max;      /**< the window is judged while its intercept's variance inflation is
                                        at most this [-], >= 1; default 4 (with 20, a healthy unit whose
                                        small currents came at one high speed had its back-EMF error
@@ -618,7 +621,9 @@ void diag_detect_config_default(diag_detect_config_t *cfg);
  * friction_fast_level_min 1.1 (friction +25 % is seen), preload_fast_low 0.7 (a spring at 50 %
  * is seen) with preload_fast_friction_max 1.3; and so may the adapted level: friction_high_rel
  * 1.15 (on an identified unit the healthy 1 + f reads 0.98-1.00 in every scenario, sigma
- * 0.01-0.02; README "Identified units"). Sets identified = 1. The parameter file key
+ * 0.01-0.02; README "Identified units"); and the in-service window's intercept,
+ * isens_bias_max_A 0.025 (the filter absorbs a third of an offset: 50 mA reads 0.030 - 0.034 in
+ * the 12 V sine of class b, under the default 0.035). Sets identified = 1. The parameter file key
  * diag.identified = 1 (written by identify) selects it. Does nothing when cfg is NULL.
  */
 void diag_detect_config_identified(diag_detect_config_t *cfg);
