@@ -1296,6 +1296,74 @@ static void test_current_sensor_check_timing(void)
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
 }
 
+/* The in-service window's variance-inflation bound (isens_vif_max, default 6): an offset of
+ * 0.05 A seen through a current that alternates between c - 0.05 and c + 0.05 A (one sign) and a
+ * zero-mean velocity. The inflation 1 + m' C^-1 m, worked out here from the window's samples in
+ * double precision (independently of the detector's sums), is about 1 + (c / 0.05)^2: c = 0.1
+ * gives 5, judged (P1A04 confirmed at the 6th window: all_varied units 1006 and 1008 in `drive`
+ * read +-50 mA at 4.2 - 5.8); c = 0.1225 gives 7, not judged. */
+static double isens_vif_of(double c)
+{
+    double si = 0.0, sw = 0.0, sii = 0.0, siw = 0.0, sww = 0.0;
+    double mi, mw, cii, ciw, cww, det;
+    const double n = (double)DIAG_ISENS_WIN;
+    int k;
+    for (k = 0; k < (int)DIAG_ISENS_WIN; ++k) {
+        const double i = c + ((k & 1) ? 0.05 : -0.05);
+        const double w = (double)isens_w(k);
+        si += i;
+        sw += w;
+        sii += i * i;
+        siw += i * w;
+        sww += w * w;
+    }
+    mi = si / n;
+    mw = sw / n;
+    cii = sii / n - mi * mi;
+    ciw = siw / n - mi * mw;
+    cww = sww / n - mw * mw;
+    det = cii * cww - ciw * ciw;
+    return 1.0 + (cww * mi * mi - 2.0 * ciw * mi * mw + cii * mw * mw) / det;
+}
+
+static void test_current_sensor_vif_bound(void)
+{
+    static const double c[2] = {0.1, 0.1225};
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int m;
+    memset(&snap, 0, sizeof snap);
+    diag_detect_config_default(&cfg);
+    TV_CHECK_NEAR(cfg.isens_vif_max, 6.0, 1e-6);
+    TV_CHECK_NEAR(isens_vif_of(c[0]), 5.0, 0.2);
+    TV_CHECK_NEAR(isens_vif_of(c[1]), 7.0, 0.2);
+    for (m = 0; m < 2; ++m) {
+        int k;
+        int first = -1;
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+        diag_init(&d);
+        for (k = 0; k < 8 * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE && first < 0; ++k) {
+            const int j = k - ((int)DIAG_ISENS_SETTLE - 1); /* the counted sample's index */
+            const tv_real_t i = (tv_real_t)(c[m] + ((j & 1) ? 0.05 : -0.05));
+            const tv_real_t w = isens_w(j < 0 ? 0 : j);
+            const tv_real_t y = TV_R(0.05) + TV_R(0.1) * i + TV_R(0.01) * w;
+            diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap);
+            if (diag_confirmed(&d, DIAG_DTC_P1A04)) {
+                first = k;
+            }
+        }
+        if (m == 0) {
+            TV_CHECK_EQ_INT(first, 6 * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE - 2);
+            TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.05, 1e-4);
+        } else {
+            TV_CHECK_EQ_INT(first, -1);
+            TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
+        }
+    }
+}
+
 /* A current-sensor offset of +-50 mA from 1.0 s (issue 12's target) on the nominal unit, seed 1
  * and 2: P1A04 confirmed and no other code. With the bridge off (limp_home: off from 0.6 s to
  * 1.2 s) the zero check confirms within 6 x 32 ms + 2 ms of the onset; in service (standstill,
@@ -2710,6 +2778,7 @@ int main(void)
     TV_TEST_RUN(test_offset_signature);
     TV_TEST_RUN(test_current_offset_identified);
     TV_TEST_RUN(test_current_offset_bound_identified);
+    TV_TEST_RUN(test_current_sensor_vif_bound);
     TV_TEST_RUN(test_current_offset_identified_class_b);
     TV_TEST_RUN(test_no_code_confirmed_on_healthy_units);
     return tv_test_summary();

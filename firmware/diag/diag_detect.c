@@ -45,7 +45,7 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->isens_bias_max_A = TV_R(0.035);
     cfg->isens_i_max_hold = TV_R(0.8);
     cfg->isens_innov_max_A = TV_R(0.15);
-    cfg->isens_vif_max = TV_R(4.0);
+    cfg->isens_vif_max = TV_R(6.0);
     cfg->torque_tau_samples = TV_R(50.0);
     cfg->torque_min_weight = TV_R(30.0);
     cfg->torque_corr_max = TV_R(0.9);

@@ -393,9 +393,11 @@ typedef struct {
                                        0.034 there, healthy identified units within 0.013 but for
                                        single windows in closed-loop driving) */
     tv_real_t isens_vif_max;      /**< the window is judged while its intercept's variance inflation is
-                                       at most this [-], >= 1; default 4 (with 20, a healthy unit whose
+                                       at most this [-], >= 1; default 6 (with 20, a healthy unit whose
                                        small currents came at one high speed had its back-EMF error
-                                       extrapolated into the intercept: README) */
+                                       extrapolated into the intercept: README; healthy windows at
+                                       4 - 6 read within 0.022 A, all_varied +-50 mA in `drive` 0.035
+                                       - 0.046 A there) */
     tv_real_t isens_i_max_hold;   /**< the window takes the driven samples whose predicted |current| is at
                                        most this fraction of the current that holds the model's spring
                                        preload, M0 / (n Kt) (diag_detect_set_preload()) [-], > 0;
