@@ -1296,20 +1296,55 @@ static void test_current_sensor_check_timing(void)
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
 }
 
+/* Scripted in-service samples from a fresh detector on cfg: the counted sample j (the first
+ * DIAG_ISENS_SETTLE - 1 calls, the bridge just on, are not counted) has predicted current cur(j),
+ * velocity isens_w(j) and innovation y = bias + ki i + 0.01 w; up to n_win windows. Returns the
+ * call index at which P1A04 is confirmed, -1 if never; *d holds the codes. */
+static int isens_scripted(const diag_detect_config_t *cfg, tv_real_t (*cur)(int), tv_real_t bias, tv_real_t ki, int n_win,
+                          diag_t *d)
+{
+    static diag_detect_t dd;
+    diag_snapshot_t snap;
+    int k;
+    memset(&snap, 0, sizeof snap);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, cfg), TV_OK);
+    diag_init(d);
+    for (k = 0; k < n_win * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE; ++k) {
+        const int j = k < (int)DIAG_ISENS_SETTLE - 1 ? 0 : k - ((int)DIAG_ISENS_SETTLE - 1);
+        const tv_real_t i = cur(j);
+        const tv_real_t w = isens_w(j);
+        const tv_real_t y = bias + ki * i + TV_R(0.01) * w;
+        diag_current_sensor_check(&dd, d, 1, 1, 1, i + y, y, w, &snap);
+        if (diag_confirmed(d, DIAG_DTC_P1A04)) {
+            return k;
+        }
+    }
+    return -1;
+}
+
 /* The in-service window's variance-inflation bound (isens_vif_max, default 6): an offset of
  * 0.05 A seen through a current that alternates between c - 0.05 and c + 0.05 A (one sign) and a
  * zero-mean velocity. The inflation 1 + m' C^-1 m, worked out here from the window's samples in
  * double precision (independently of the detector's sums), is about 1 + (c / 0.05)^2: c = 0.1
  * gives 5, judged (P1A04 confirmed at the 6th window: all_varied units 1006 and 1008 in `drive`
- * read +-50 mA at 4.2 - 5.8); c = 0.1225 gives 7, not judged. */
-static double isens_vif_of(double c)
+ * read +-50 mA at 4.2 - 5.8); c = 0.1225 gives 7, not judged. The two currents: */
+static tv_real_t isens_i_c1(int j)
+{
+    return (tv_real_t)(0.1 + ((j & 1) ? 0.05 : -0.05));
+}
+static tv_real_t isens_i_c2(int j)
+{
+    return (tv_real_t)(0.1225 + ((j & 1) ? 0.05 : -0.05));
+}
+
+static double isens_vif_of(tv_real_t (*cur)(int))
 {
     double si = 0.0, sw = 0.0, sii = 0.0, siw = 0.0, sww = 0.0;
     double mi, mw, cii, ciw, cww, det;
     const double n = (double)DIAG_ISENS_WIN;
     int k;
     for (k = 0; k < (int)DIAG_ISENS_WIN; ++k) {
-        const double i = c + ((k & 1) ? 0.05 : -0.05);
+        const double i = (double)cur(k);
         const double w = (double)isens_w(k);
         si += i;
         sw += w;
@@ -1328,40 +1363,17 @@ static double isens_vif_of(double c)
 
 static void test_current_sensor_vif_bound(void)
 {
-    static const double c[2] = {0.1, 0.1225};
     static diag_t d;
-    static diag_detect_t dd;
     diag_detect_config_t cfg;
-    diag_snapshot_t snap;
-    int m;
-    memset(&snap, 0, sizeof snap);
     diag_detect_config_default(&cfg);
     TV_CHECK_NEAR(cfg.isens_vif_max, 6.0, 1e-6);
-    TV_CHECK_NEAR(isens_vif_of(c[0]), 5.0, 0.2);
-    TV_CHECK_NEAR(isens_vif_of(c[1]), 7.0, 0.2);
-    for (m = 0; m < 2; ++m) {
-        int k;
-        int first = -1;
-        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-        diag_init(&d);
-        for (k = 0; k < 8 * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE && first < 0; ++k) {
-            const int j = k - ((int)DIAG_ISENS_SETTLE - 1); /* the counted sample's index */
-            const tv_real_t i = (tv_real_t)(c[m] + ((j & 1) ? 0.05 : -0.05));
-            const tv_real_t w = isens_w(j < 0 ? 0 : j);
-            const tv_real_t y = TV_R(0.05) + TV_R(0.1) * i + TV_R(0.01) * w;
-            diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap);
-            if (diag_confirmed(&d, DIAG_DTC_P1A04)) {
-                first = k;
-            }
-        }
-        if (m == 0) {
-            TV_CHECK_EQ_INT(first, 6 * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE - 2);
-            TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.05, 1e-4);
-        } else {
-            TV_CHECK_EQ_INT(first, -1);
-            TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
-        }
-    }
+    TV_CHECK_NEAR(isens_vif_of(isens_i_c1), 5.0, 0.2);
+    TV_CHECK_NEAR(isens_vif_of(isens_i_c2), 7.0, 0.2);
+    TV_CHECK_EQ_INT(isens_scripted(&cfg, isens_i_c1, TV_R(0.05), TV_R(0.1), 8, &d),
+                    6 * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE - 2);
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.05, 1e-4);
+    TV_CHECK_EQ_INT(isens_scripted(&cfg, isens_i_c2, TV_R(0.05), TV_R(0.1), 8, &d), -1);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P1A04));
 }
 
 /* A current-sensor offset of +-50 mA from 1.0 s (issue 12's target) on the nominal unit, seed 1
@@ -2588,31 +2600,16 @@ static void test_current_offset_bound_identified(void)
 {
     static const double b[2] = {0.030, 0.020};
     static diag_t d;
-    static diag_detect_t dd;
-    diag_snapshot_t snap;
     int m;
-    memset(&snap, 0, sizeof snap);
     for (m = 0; m < 4; ++m) {
         const int ident = m & 1;
-        const tv_real_t bias = (tv_real_t)b[m >> 1];
         diag_detect_config_t cfg;
-        int k;
-        int first = -1;
+        int first;
         diag_detect_config_default(&cfg);
         if (ident) {
             diag_detect_config_identified(&cfg);
         }
-        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
-        diag_init(&d);
-        for (k = 0; k < 10 * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE && first < 0; ++k) {
-            const tv_real_t i = isens_i(k);
-            const tv_real_t w = isens_w(k);
-            const tv_real_t y = -bias + TV_R(0.2) * i + TV_R(0.01) * w;
-            diag_current_sensor_check(&dd, &d, 1, 1, 1, i + y, y, w, &snap);
-            if (diag_confirmed(&d, DIAG_DTC_P1A04)) {
-                first = k;
-            }
-        }
+        first = isens_scripted(&cfg, isens_i, -(tv_real_t)b[m >> 1], TV_R(0.2), 10, &d);
         if (ident && m >> 1 == 0) {
             /* the first DIAG_ISENS_SETTLE - 1 calls do not count: the 3,000th counted sample */
             TV_CHECK_EQ_INT(first, 6 * (int)DIAG_ISENS_WIN + (int)DIAG_ISENS_SETTLE - 2);

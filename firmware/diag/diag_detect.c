@@ -709,14 +709,16 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
              * times the larger deficit (a raised winding moves R alone, the levels dipping a few
              * per cent while the estimator catches up). Low levels hold P2101 as well
              * (diag_resistance_check()): not where they cannot explain R */
-            const tv_real_t excess = dd->r_ratio - TV_R(1.0);
-            dd->mech_low = dd->cfg.identified &&
-                                   (preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ||
-                                    (friction_rel < dd->cfg.isens_sig_friction_low && TV_R(1.0) - friction_rel > excess)) &&
-                                   excess <= DIAG_ISENS_SIG_EXCESS_PER_DEFICIT *
-                                                 (TV_R(1.0) - (preload_rel < friction_rel ? preload_rel : friction_rel))
-                               ? 1u
-                               : 0u;
+            dd->mech_low = 0u;
+            if (dd->cfg.identified) {
+                const tv_real_t excess = dd->r_ratio - TV_R(1.0);
+                const tv_real_t deficit = TV_R(1.0) - (preload_rel < friction_rel ? preload_rel : friction_rel);
+                const int level_low = preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ||
+                                      (friction_rel < dd->cfg.isens_sig_friction_low && TV_R(1.0) - friction_rel > excess);
+                if (level_low && excess <= DIAG_ISENS_SIG_EXCESS_PER_DEFICIT * deficit) {
+                    dd->mech_low = 1u;
+                }
+            }
         }
         /* Three readings: R high with a level low and the friction in its healthy range (a
          * jam's drag, far above, is no sensor); R low with the preload up and the friction as it
