@@ -46,6 +46,7 @@ void app_config_default(app_config_t *cfg)
     tvm_params_default(&cfg->model);
     ekf_config_default(&cfg->ekf, EKF_SETUP_CURRENT_ANGLE);
     nism_config_default(&cfg->nism);
+    vfit_config_default(&cfg->vfit);
     sl_config_default(&cfg->stop_learn);
     st_config_default(&cfg->stop_track);
     il_config_default(&cfg->impact_learn);
@@ -157,6 +158,13 @@ int app_init(app_t *app, const app_config_t *cfg)
         }
     }
     {
+        vfit_t probe;
+        rc = vfit_init(&probe, &cfg->vfit, cfg->model.L_H, cfg->model.Ts_s);
+        if (rc != TV_OK) {
+            return rc;
+        }
+    }
+    {
         st_t probe;
         rc = st_reset(&probe, &cfg->stop_track, cfg->model.phi_closed_rad, cfg->model.phi_open_rad);
         if (rc != TV_OK) {
@@ -178,6 +186,7 @@ int app_init(app_t *app, const app_config_t *cfg)
     app->cfg = *cfg;
     app->ekf = ekf;
     (void)nism_init(&app->nism, &cfg->nism); /* validated above */
+    (void)vfit_init(&app->vfit, &cfg->vfit, cfg->model.L_H, cfg->model.Ts_s); /* likewise */
     (void)st_reset(&app->st, &cfg->stop_track, cfg->model.phi_closed_rad, cfg->model.phi_open_rad); /* likewise */
     (void)il_reset(&app->il, &cfg->impact_learn, &app->ekf.model.p); /* a law without stiffness: never learns */
     app->il.coupling = cfg->ekf.contact_w_coupling; /* as learned before (a parameter file), validated */
@@ -217,6 +226,7 @@ void app_clear_faults(app_t *app)
         (void)ekf_init(&app->ekf, &app->cfg.model, &app->cfg.ekf);
         (void)nism_init(&app->nism, &app->cfg.nism); /* the old estimate's innovations are void */
         app->have_last_angle = 0u;
+        app->vf_prev_ok = 0u; /* the fresh estimate's velocity does not continue the old one */
         /* the outputs are off while a fault is latched: the period now running is open-bridge,
          * seen from the fresh estimate (the old input was computed from the refused one) */
         app->u_applied_V = open_bridge_voltage(app);
@@ -948,6 +958,18 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         }
     }
     out->consistency = app->nism.flags;
+    {
+        /* the voltage equation's fit (volt_fit.h) over the period that ended: the voltage the
+         * bridge applied, the measured current and the corrected velocity at both its ends */
+        const tv_real_t w1 = app->ekf.x[TVM_W];
+        const uint8_t ok = out->ekf_status == TV_OK && angle_ok && (out->degraded & APP_DEGRADED_CURRENT) == 0u ? 1u : 0u;
+        if (ok && app->vf_prev_ok && periods == 1u && app->diag_bridge_on) {
+            (void)vfit_step(&app->vfit, app->u_applied_V, app->vf_i_prev, current, app->vf_w_prev, w1);
+        }
+        app->vf_prev_ok = ok;
+        app->vf_i_prev = current;
+        app->vf_w_prev = w1;
+    }
     /* Online stop tracking (stop_track.h), in service: not while the start-up routine runs, which
      * owns the stops then. A moved onset goes to the estimator; the tracker keeps its reference. */
     if (app->cfg.control.mode != APP_MODE_STOP_LEARN && out->ekf_status == TV_OK && periods > 0u) {

@@ -22,6 +22,7 @@
 #include "diag_detect.h"
 #include "ekf.h"
 #include "nis_monitor.h"
+#include "volt_fit.h"
 #include "stop_learn.h"
 #include "stop_track.h"
 #include "impact_learn.h"
@@ -150,6 +151,7 @@ typedef struct {
     tvm_params_t model;   /**< estimator model parameters */
     ekf_config_t ekf;     /**< estimator configuration (set-up, Q, R, ...) */
     nism_config_t nism;   /**< consistency monitor (nis_monitor.h) */
+    vfit_config_t vfit;   /**< the voltage equation's fit of R and n Ke (volt_fit.h) */
     sl_config_t stop_learn; /**< start-up stop learning (APP_MODE_STOP_LEARN, stop_learn.h) */
     st_config_t stop_track; /**< online stop tracking in service (stop_track.h) */
     il_config_t impact_learn; /**< the stops' contact damping and stiffness from impacts in service (impact_learn.h) */
@@ -244,6 +246,10 @@ typedef struct {
     tv_real_t integ_V;        /**< PID integral state [V] */
     uint32_t n_estimator_resets; /**< times app_clear_faults() restarted the estimator */
     nism_t nism;              /**< consistency monitor on the estimator's innovations */
+    vfit_t vfit;              /**< the voltage equation's fit (volt_fit.h): R and n Ke over driven periods */
+    tv_real_t vf_i_prev;      /**< the measured current of the last sample [A] (the fit's period start) */
+    tv_real_t vf_w_prev;      /**< the estimated velocity after the last sample's correction [rad/s] */
+    uint8_t vf_prev_ok;       /**< 1: the last sample had a plausible current and angle and a correction */
     sl_t sl;                  /**< stop-learning routine (APP_MODE_STOP_LEARN) and its last result */
     st_t st;                  /**< online stop tracking (stop_track.h): the estimator's stops follow the unit */
     il_t il;                  /**< impact learning (impact_learn.h): the estimator's contact law follows the unit's impacts */

@@ -247,6 +247,13 @@ typedef struct {
     double r_20_ohm;                 /**< the estimate referred to 20 degC (app_output_t::r_20_ohm) [ohm];
                                           NaN when the application was not told the temperature */
     double r_true_20_ohm;            /**< the plant's at 20 degC [ohm] */
+    double r_fit_ohm;                /**< the voltage equation's fit of R, its last window at the end (volt_fit.h) [ohm];
+                                          NaN when no window was taken */
+    double r_fit_sigma_ohm;          /**< its standard deviation [ohm] (NaN likewise) */
+    double nke_fit_V_s;              /**< the fit's back-EMF constant at the plate, n Ke [V s/rad] (NaN likewise) */
+    double nke_fit_sigma_V_s;        /**< its standard deviation [V s/rad] (NaN likewise) */
+    double nke_true_V_s;             /**< the plant's n Ke [V s/rad] (with an injected fault's) */
+    uint32_t fit_windows;            /**< windows the fit took */
     double friction_rel;             /**< the filter's friction level relative to its model's, 1 + f, at the end [-] */
     double friction_rel_sigma;       /**< its standard deviation [-] (0: no friction-error state) */
     double friction_rel_true;        /**< the plant's Coulomb friction relative to the filter model's [-] */

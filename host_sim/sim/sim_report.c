@@ -123,6 +123,10 @@ int sim_result_print(FILE *f, const sim_result_t *r)
             r->nis_ch_avg[EKF_CH_CURRENT], r->nis_ch_avg[EKF_CH_VELOCITY], r->nis_ch_avg[EKF_CH_ANGLE]);
     fprintf(f, "winding resistance at the end: estimate %.4g +- %.3g ohm (R + dR, ekf_resistance_error()), plant %.4g ohm\n",
             r->r_est_ohm, r->r_sigma_ohm, r->r_true_ohm);
+    fprintf(f, "  the voltage equation's fit (volt_fit.h, last of %lu windows): R %.4g +- %.3g ohm, n Ke %.4g +- %.3g V s/rad, "
+               "plant %.4g V s/rad\n",
+            (unsigned long)r->fit_windows, r->r_fit_ohm, r->r_fit_sigma_ohm, r->nke_fit_V_s, r->nke_fit_sigma_V_s,
+            r->nke_true_V_s);
     if (isfinite(r->r_20_ohm)) {
         fprintf(f, "  referred to 20 degC with the winding temperature the application was told: %.4g ohm, plant %.4g ohm\n",
                 r->r_20_ohm, r->r_true_20_ohm);
@@ -243,6 +247,17 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     sim_jnum(f, r->r_20_ohm);
     fputs(", \"plant_20C_ohm\": ", f);
     sim_jnum(f, r->r_true_20_ohm);
+    fputs(", \"fit_ohm\": ", f);
+    sim_jnum(f, r->r_fit_ohm);
+    fputs(", \"fit_sigma_ohm\": ", f);
+    sim_jnum(f, r->r_fit_sigma_ohm);
+    fputs(", \"fit_nke_V_s_rad\": ", f);
+    sim_jnum(f, r->nke_fit_V_s);
+    fputs(", \"fit_nke_sigma_V_s_rad\": ", f);
+    sim_jnum(f, r->nke_fit_sigma_V_s);
+    fputs(", \"plant_nke_V_s_rad\": ", f);
+    sim_jnum(f, r->nke_true_V_s);
+    fprintf(f, ", \"fit_windows\": %lu", (unsigned long)r->fit_windows);
     fputs("},\n  \"friction_level\": {\"estimate_rel\": ", f);
     sim_jnum(f, r->friction_rel);
     fputs(", \"sigma_rel\": ", f);

@@ -648,6 +648,15 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->r_20_ohm = app->winding_temp_known ? res->r_est_ohm * (double)app->r_temp_inv : (double)NAN;
     }
     {
+        const vfit_t *vf = &app->vfit;
+        res->fit_windows = vf->windows;
+        res->r_fit_ohm = vf->valid ? (double)vf->r_ohm : (double)NAN;
+        res->r_fit_sigma_ohm = vf->valid ? (double)vf->r_sigma_ohm : (double)NAN;
+        res->nke_fit_V_s = vf->valid ? (double)vf->nke_V_s : (double)NAN;
+        res->nke_fit_sigma_V_s = vf->valid ? (double)vf->nke_sigma_V_s : (double)NAN;
+        res->nke_true_V_s = pcfg.n_gear * pcfg.Ke_V_s_rad;
+    }
+    {
         tv_real_t f;
         tv_real_t sf;
         ekf_friction_error(&app->ekf, &f, &sf);

@@ -1,0 +1,122 @@
+/**
+ * @file volt_fit.c
+ * @brief Least-squares fit of the voltage equation over windows of driven periods (see volt_fit.h).
+ */
+#include "volt_fit.h"
+
+#include <stddef.h>
+#include <string.h>
+
+#include "tv_status.h"
+
+void vfit_config_default(vfit_config_t *cfg)
+{
+    if (cfg == NULL) {
+        return;
+    }
+    cfg->block = 250u;
+    cfg->blocks = 4u;
+    cfg->u_min_V = TV_R(0.5);
+    cfg->rho2_max = TV_R(0.98);
+    cfg->corr_periods = TV_R(36.0);
+}
+
+int vfit_init(vfit_t *f, const vfit_config_t *cfg, tv_real_t L_H, tv_real_t Ts_s)
+{
+    if (f == NULL || cfg == NULL) {
+        return TV_ERR_NULL;
+    }
+    if (!TV_IS_FINITE(cfg->u_min_V) || !TV_IS_FINITE(cfg->rho2_max) || !TV_IS_FINITE(cfg->corr_periods) ||
+        !TV_IS_FINITE(L_H) || !TV_IS_FINITE(Ts_s)) {
+        return TV_ERR_NONFINITE;
+    }
+    if (cfg->block < 100u || cfg->block > VFIT_BLOCK_MAX || cfg->blocks == 0u || cfg->blocks > VFIT_BLOCKS_MAX || !(cfg->u_min_V >= TV_R(0.0)) ||
+        !(cfg->rho2_max > TV_R(0.0)) || !(cfg->rho2_max < TV_R(1.0)) || !(cfg->corr_periods >= TV_R(1.0)) ||
+        !(L_H > TV_R(0.0)) || !(Ts_s > TV_R(0.0))) {
+        return TV_ERR_CONFIG;
+    }
+    memset(f, 0, sizeof *f);
+    f->cfg = *cfg;
+    f->l_over_t = L_H / Ts_s;
+    return TV_OK;
+}
+
+/* The window's 2 x 2 solve over the sums s of n driven periods: R and n Ke from the normal
+ * equations, their standard deviations from the residual variance scaled by the correlation
+ * length. 1 when taken. */
+static int vfit_solve(vfit_t *f, const tv_real_t *s, uint32_t n)
+{
+    const tv_real_t det = s[0] * s[2] - s[1] * s[1];
+    tv_real_t r;
+    tv_real_t k;
+    tv_real_t var;
+    /* collinear current and velocity (rho^2 = s_iw^2 / (s_ii s_ww) near 1): R and n Ke not apart */
+    if (!(s[0] > TV_R(0.0)) || !(s[2] > TV_R(0.0)) || !(s[1] * s[1] <= f->cfg.rho2_max * s[0] * s[2]) || !(det > TV_R(0.0))) {
+        return 0;
+    }
+    r = (s[2] * s[3] - s[1] * s[4]) / det;
+    k = (s[0] * s[4] - s[1] * s[3]) / det;
+    /* residual sum of squares y'y - theta' X'y, per degree of freedom, times the correlation length */
+    var = (s[5] - r * s[3] - k * s[4]) / (tv_real_t)(n - 2u) * f->cfg.corr_periods;
+    if (!TV_IS_FINITE(r) || !TV_IS_FINITE(k) || !TV_IS_FINITE(var)) {
+        return 0;
+    }
+    if (var < TV_R(0.0)) {
+        var = TV_R(0.0); /* rounding of a near-perfect fit */
+    }
+    f->r_ohm = r;
+    f->nke_V_s = k;
+    f->r_sigma_ohm = TV_SQRT(var * s[2] / det);
+    f->nke_sigma_V_s = TV_SQRT(var * s[0] / det);
+    f->valid = 1u;
+    ++f->windows;
+    return 1;
+}
+
+int vfit_step(vfit_t *f, tv_real_t u_V, tv_real_t i0_A, tv_real_t i1_A, tv_real_t w0_rad_s, tv_real_t w1_rad_s)
+{
+    tv_real_t i;
+    tv_real_t w;
+    tv_real_t y;
+    tv_real_t win[6];
+    int taken;
+    unsigned b;
+    unsigned c;
+    if (f == NULL || !(u_V >= f->cfg.u_min_V || u_V <= -f->cfg.u_min_V)) {
+        return 0;
+    }
+    i = TV_R(0.5) * (i0_A + i1_A);
+    w = TV_R(0.5) * (w0_rad_s + w1_rad_s);
+    y = u_V - f->l_over_t * (i1_A - i0_A);
+    if (!TV_IS_FINITE(i) || !TV_IS_FINITE(w) || !TV_IS_FINITE(y)) {
+        return 0;
+    }
+    f->s[0] += i * i;
+    f->s[1] += i * w;
+    f->s[2] += w * w;
+    f->s[3] += i * y;
+    f->s[4] += w * y;
+    f->s[5] += y * y;
+    if (++f->n < f->cfg.block) {
+        return 0;
+    }
+    /* a complete block: into the ring, and the window over the last `blocks` of them */
+    memcpy(f->ring[f->next], f->s, sizeof f->s);
+    f->next = (uint8_t)(f->next + 1u < f->cfg.blocks ? f->next + 1u : 0u);
+    if (f->full < f->cfg.blocks) {
+        ++f->full;
+    }
+    memset(f->s, 0, sizeof f->s);
+    f->n = 0u;
+    if (f->full < f->cfg.blocks) {
+        return 0;
+    }
+    memset(win, 0, sizeof win);
+    for (b = 0u; b < f->cfg.blocks; ++b) {
+        for (c = 0u; c < 6u; ++c) {
+            win[c] += f->ring[b][c];
+        }
+    }
+    taken = vfit_solve(f, win, (uint32_t)f->cfg.blocks * f->cfg.block);
+    return taken;
+}
