@@ -95,6 +95,22 @@ def synthetic(d):
     r = json.load(open(os.path.join(d, "summary.json")))["classes"]["winding_resistance_high"]
     check(abs(r["param_rel_err_median"] - 0.03) < 1e-9, "resistance error median 3 %")
     check(abs(r["param_rel_err_p95"] - 0.10) < 1e-9, "resistance error p95 10 %")
+    check(r["param_within_target"] == 2, "two of three resistance estimates within 3 %")
+    # the voltage equation's fit where it took a window, else R + dR: fit 4.0 / plant 4.0 (R + dR
+    # 3.0 not used) -> 0; fit nan, R + dR 4.4 / 4.0 -> 10 %; fit 3.8 / 4.0 -> 5 %
+    head = HEAD[:-2] + ["r_est_ohm", "r_fit_ohm", "r_true_ohm"] + HEAD[-2:]
+    with open(os.path.join(d, "runs", "winding_short:0.2.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(head)
+        inj = "winding_short:winding_short:2.0000"
+        for est, fit, true in ((3.0, 4.0, 4.0), (4.4, "nan", 4.0), (4.0, 3.8, 4.0)):
+            w.writerow(["all_varied", 1, "a", "drive", 1, 8, est, fit, true, inj, ""])
+    subprocess.run([sys.executable, SCRIPT, d, soak], check=True, stdout=subprocess.DEVNULL)
+    ws = json.load(open(os.path.join(d, "summary.json")))["classes"]["winding_short"]
+    check(abs(ws["param_rel_err_median"] - 0.05) < 1e-9 and abs(ws["param_rel_err_p95"] - 0.10) < 1e-9,
+          "the fit's R where taken, R + dR where not: errors 0, 10, 5 %")
+    check(ws["param_within_target"] == 1, "one of three within 3 %")
+    os.remove(os.path.join(d, "runs", "winding_short:0.2.csv"))  # the totals below count without it
     check(r["detection_rate"] == 0.0 and r["runs"] == 3, "no code: not detected")
     md = open(os.path.join(d, "matrix.md")).read()
     check("| winding_resistance_high:1.25 | winding_resistance_high | 3 | 6 | 0 % |" in md,

@@ -964,7 +964,12 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         const tv_real_t w1 = app->ekf.x[TVM_W];
         const uint8_t ok = out->ekf_status == TV_OK && angle_ok && (out->degraded & APP_DEGRADED_CURRENT) == 0u ? 1u : 0u;
         if (ok && app->vf_prev_ok && periods == 1u && app->diag_bridge_on) {
-            (void)vfit_step(&app->vfit, app->u_applied_V, app->vf_i_prev, current, app->vf_w_prev, w1);
+            if (vfit_step(&app->vfit, app->u_applied_V, app->vf_i_prev, current, app->vf_w_prev, w1)) {
+                /* a window taken: the back-EMF check against the model's constants */
+                const tv_real_t k_nom = app->ekf.model.nKe_V_s;
+                diag_backemf_check(&app->ddet, &app->diag, app->vfit.r_ohm / (app->ekf.model.p.R_ohm * app->r_temp_factor),
+                                   app->vfit.nke_V_s / k_nom, app->vfit.nke_sigma_V_s / k_nom);
+            }
         }
         app->vf_prev_ok = ok;
         app->vf_i_prev = current;

@@ -73,6 +73,8 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->isens_sig_checks = 30u;
     cfg->isens_sig_friction_low = TV_R(0.95);
     cfg->gain_r_known_max = TV_R(0.96);
+    cfg->ke_short_max = TV_R(0.86);
+    cfg->ke_sigma_max = TV_R(0.03);
     cfg->identified = 0u;
 }
 
@@ -89,6 +91,7 @@ void diag_detect_config_identified(diag_detect_config_t *cfg)
     cfg->r_high_frac_known = TV_R(1.15);
     cfg->r_low_frac_known = TV_R(0.85);
     cfg->isens_bias_max_A = TV_R(0.025);
+    cfg->ke_short_max = TV_R(0.95);
     cfg->identified = 1u;
 }
 
@@ -113,7 +116,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->friction_fast_level_min, cfg->preload_fast_friction_max, cfg->away_friction_min, cfg->away_w_max_rad_s,
                                  cfg->probe_trigger, cfg->probe_min_weight, cfg->probe_friction_frac, cfg->probe_move_rad,
                                  cfg->gain_r_max, cfg->gain_mech_min, cfg->gain_kw_max, cfg->gain_w_var_min,
-                                 cfg->gain_r_known_max, cfg->isens_sig_friction_low};
+                                 cfg->gain_r_known_max, cfg->isens_sig_friction_low, cfg->ke_short_max, cfg->ke_sigma_max};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -131,7 +134,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
         !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u ||
         !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_r_known_max < TV_R(1.0)) ||
-        !(cfg->isens_sig_friction_low < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0)) ||
+        !(cfg->isens_sig_friction_low < TV_R(1.0)) || !(cfg->ke_short_max < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0)) ||
         cfg->gain_hold_checks == 0u || cfg->isens_sig_checks == 0u || !(cfg->open_emf_allow_V >= TV_R(0.0)) ||
         !(cfg->open_emf_allow_V < cfg->open_u_min_V)) {
         return TV_ERR_CONFIG;
@@ -500,15 +503,42 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
      * back-EMF constant down as well: shorted turns, at the resistance check's rate (a
      * current-sensor gain also reads R low, with the back-EMF intact: the motor-constant
      * signature's P1A04) */
-    if (ratio < dd->cfg.r_low_frac ||
+    if (ratio < dd->cfg.r_low_frac || dd->ke_short ||
         (temp_known && ratio < dd->cfg.r_low_frac_known &&
          (dd->kw_short || (dd->kw_ok && dd->isens_kw > dd->cfg.gain_kw_max)))) {
         (void)diag_report(d, DIAG_DTC_P1A01, DIAG_FAIL, snap, ratio);
     } else if (!dd->r_low) {
         /* while the apparent resistance is below gain_r_max on an identified unit, the
-         * motor-constant signature (diag_param_check()) judges shorted turns: no pass here */
+         * motor-constant signature (diag_param_check()) judges shorted turns: no pass here (nor
+         * while the back-EMF check reads them, which fails above) */
         (void)diag_report(d, DIAG_DTC_P1A01, DIAG_PASS, snap, ratio);
     }
+}
+
+void diag_backemf_check(diag_detect_t *dd, const diag_t *d, tv_real_t r_ratio, tv_real_t ke_ratio, tv_real_t ke_sigma_rel)
+{
+    static const diag_dtc_t circuit[] = {DIAG_DTC_P2100, DIAG_DTC_P1A03};
+    if (dd == NULL || d == NULL) {
+        return;
+    }
+    if (any_active(d, circuit, sizeof circuit / sizeof circuit[0])) {
+        dd->ke_low_n = 0u;
+        dd->ke_short = 0u;
+        return;
+    }
+    if (!TV_IS_FINITE(r_ratio) || !TV_IS_FINITE(ke_ratio) || !(ke_sigma_rel <= dd->cfg.ke_sigma_max)) {
+        return; /* not counted: the state stays */
+    }
+    /* below the bound by two standard deviations: a slow sine's creep reads n Ke with a sigma of a
+     * few per cent, a current gain's windows there down to 0.94 of an identified unit's */
+    if (ke_ratio + TV_R(2.0) * ke_sigma_rel < dd->cfg.ke_short_max && r_ratio < TV_R(1.0)) {
+        if (dd->ke_low_n < 2u) {
+            ++dd->ke_low_n;
+        }
+    } else {
+        dd->ke_low_n = 0u;
+    }
+    dd->ke_short = dd->ke_low_n >= 2u ? 1u : 0u;
 }
 
 /* A decayed sample count w and two sums over the same samples scaled to at most wmax samples
@@ -744,7 +774,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         /* MOTOR-CONSTANT SIGNATURE: the apparent resistance down and friction and preload up
          * together, i.e. the torque per measured ampere too small: a current-sensor gain (the
          * back-EMF intact) or shorted turns (the back-EMF constant down with them) */
-        (void)diag_report(d, !dd->kw_short && dd->isens_kw <= dd->cfg.gain_kw_max ? DIAG_DTC_P1A04 : DIAG_DTC_P1A01,
+        (void)diag_report(d, !dd->kw_short && !dd->ke_short && dd->isens_kw <= dd->cfg.gain_kw_max ? DIAG_DTC_P1A04 : DIAG_DTC_P1A01,
                           DIAG_FAIL, snap, dd->r_ratio);
     }
     if (mechanics_inhibited(d)) {

@@ -493,6 +493,17 @@ typedef struct {
                                        mechanics checks [checks], > 0; default 300 (3 s of motion: a gain
                                        error raises the friction before the preload; friction alone on a
                                        cold winding, whose R reads low, is then judged as before) */
+    tv_real_t ke_short_max;       /**< BACK-EMF CHECK (the voltage equation's fit, volt_fit.h): shorted turns
+                                       (P1A01) when two windows in a row read n Ke below this fraction of the
+                                       model's with R below the model's [-], (0, 1); default 0.86 (the class's
+                                       healthy units spread +-10 %: the lowest read 0.91; 20 % of the turns
+                                       shorted reads 0.66 - 0.89 on them, 0.80 - 0.84 on a unit of the
+                                       class's own constants); diag_detect_config_identified(): 0.95
+                                       (healthy identified units read 0.994 - 1.002) */
+    tv_real_t ke_sigma_max;       /**< ... a window counts when the fit's standard deviation of n Ke is at
+                                       most this fraction of the model's [-], > 0; default 0.03 (a slow
+                                       sine's creep leaves n Ke undetermined, read 0.4 - 1.6 with sigma
+                                       0.1 - 0.9) */
     tv_real_t gain_r_known_max;   /**< with the winding's temperature known, the apparent resistance below this
                                        lets the motor-constant signature take friction up alone and holds
                                        P2119 [-], (0, 1); default 0.96 (a gain of 5 % reads 0.945-0.964, 10 %
@@ -603,6 +614,9 @@ typedef struct {
                                 excursion above gain_r_max shorter than DIAG_R_LOW_EXIT checks */
     uint8_t kw_short;      /**< 1 once two judged driven windows in a row read kw above gain_kw_max
                                 since r_low was set: a back-EMF deficit (shorted turns) */
+    uint8_t ke_low_n;      /**< the voltage equation's fit: windows in a row that read n Ke below
+                                ke_short_max (saturating at 2; diag_backemf_check()) */
+    uint8_t ke_short;      /**< 1 while the last two counted windows read it: shorted turns */
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint16_t offset_sig_n; /**< mechanics checks in a row that read the offset signature (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
@@ -758,6 +772,20 @@ void diag_circuit_check(diag_detect_t *dd, diag_t *d, int low1, int low2, tv_rea
  */
 void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t current_A, tv_real_t r_est_ohm,
                            tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, int temp_known, const diag_snapshot_t *snap);
+
+/**
+ * The back-EMF check: one window of the voltage equation's fit (volt_fit.h), called when the fit
+ * takes one. Two windows in a row whose n Ke reads below ke_short_max of the model's, with R below
+ * the model's, set ke_short: the resistance check (diag_resistance_check()) then fails P1A01 at
+ * its rate, and the motor-constant signature names shorted turns rather than a current gain (a
+ * gain divides the fit's R, never its n Ke). A window whose n Ke has a standard deviation above
+ * ke_sigma_max of the model's is not counted; while the open-winding or bridge code (P2100,
+ * P1A03) is pending or confirmed, the voltage equation has no current to fit and the state clears.
+ * @param r_ratio      the fit's R over the model's (at the winding's temperature when known) [-]
+ * @param ke_ratio     the fit's n Ke over the model's [-]
+ * @param ke_sigma_rel its standard deviation over the model's n Ke [-]
+ */
+void diag_backemf_check(diag_detect_t *dd, const diag_t *d, tv_real_t r_ratio, tv_real_t ke_ratio, tv_real_t ke_sigma_rel);
 
 /**
  * The adapted-mechanics check (see the file comment); reports P2119, P1A02. Call once per step:
