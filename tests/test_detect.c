@@ -2737,9 +2737,80 @@ static void test_no_code_confirmed_on_healthy_units(void)
     TV_CHECK_EQ_INT(confirmed, 0);
 }
 
+/* The back-EMF check (diag_backemf_check(), the voltage equation's fit): scripted windows
+ * (R ratio, n Ke ratio, its sigma), then the resistance check at an apparent resistance of 0.9 of
+ * the model's (inside every bound: alone it passes P1A01) for 300 calls. Returns the call at which
+ * P1A01 confirmed (0: never). */
+static int backemf_case(int identified, const tv_real_t (*win)[3], int n_win, int p2100, diag_detect_t *dd)
+{
+    static diag_t d;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int k;
+    diag_detect_config_default(&cfg);
+    if (identified) {
+        diag_detect_config_identified(&cfg);
+    }
+    TV_CHECK_EQ_INT(diag_detect_init(dd, &cfg), TV_OK);
+    diag_init(&d);
+    memset(&snap, 0, sizeof snap);
+    if (p2100) {
+        (void)diag_report(&d, DIAG_DTC_P2100, DIAG_FAIL, &snap, TV_R(0.0));
+    }
+    for (k = 0; k < n_win; ++k) {
+        diag_backemf_check(dd, &d, win[k][0], win[k][1], win[k][2]);
+    }
+    for (k = 1; k <= 300; ++k) {
+        snap.t_us = (uint64_t)k * 1000u;
+        diag_resistance_check(dd, &d, 1, TV_R(1.0), TV_R(0.9) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 0, &snap);
+        if (diag_confirmed(&d, DIAG_DTC_P1A01)) {
+            return k;
+        }
+    }
+    return 0;
+}
+
+static void test_backemf_short(void)
+{
+    static diag_detect_t dd;
+    /* defaults (class model): bound 0.86, two windows in a row, n Ke + 2 sigma below it */
+    static const tv_real_t two_low[2][3] = {{TV_R(0.8), TV_R(0.81), TV_R(0.01)}, {TV_R(0.8), TV_R(0.82), TV_R(0.01)}};
+    static const tv_real_t one_low[2][3] = {{TV_R(0.8), TV_R(0.81), TV_R(0.01)}, {TV_R(0.8), TV_R(0.90), TV_R(0.01)}};
+    static const tv_real_t low_ok[3][3] = {{TV_R(0.8), TV_R(0.81), TV_R(0.01)},
+                                           {TV_R(0.8), TV_R(0.2), TV_R(0.5)}, /* not counted: sigma */
+                                           {TV_R(0.8), TV_R(0.82), TV_R(0.01)}};
+    static const tv_real_t within_2sigma[2][3] = {{TV_R(0.8), TV_R(0.84), TV_R(0.015)}, {TV_R(0.8), TV_R(0.84), TV_R(0.015)}};
+    static const tv_real_t r_high[2][3] = {{TV_R(1.05), TV_R(0.81), TV_R(0.01)}, {TV_R(1.05), TV_R(0.81), TV_R(0.01)}};
+    static const tv_real_t ident[2][3] = {{TV_R(0.9), TV_R(0.93), TV_R(0.005)}, {TV_R(0.9), TV_R(0.93), TV_R(0.005)}};
+    TV_CHECK_EQ_INT(backemf_case(0, two_low, 0, 0, &dd), 0); /* no window: R at 0.9 alone passes */
+    TV_CHECK_EQ_INT(backemf_case(0, two_low, 2, 0, &dd), 200); /* P1A01's confirmation count */
+    TV_CHECK(dd.ke_short == 1u);
+    TV_CHECK_EQ_INT(backemf_case(0, one_low, 2, 0, &dd), 0);
+    TV_CHECK(dd.ke_short == 0u && dd.ke_low_n == 0u);
+    TV_CHECK_EQ_INT(backemf_case(0, low_ok, 3, 0, &dd), 200); /* an undetermined window between: state kept */
+    TV_CHECK_EQ_INT(backemf_case(0, within_2sigma, 2, 0, &dd), 0); /* 0.84 + 0.03 is not below 0.86 */
+    TV_CHECK_EQ_INT(backemf_case(0, r_high, 2, 0, &dd), 0);  /* R above the model's: no short */
+    TV_CHECK_EQ_INT(backemf_case(0, two_low, 2, 1, &dd), 0); /* the open-winding code active: cleared */
+    TV_CHECK(dd.ke_short == 0u);
+    TV_CHECK_EQ_INT(backemf_case(0, ident, 2, 0, &dd), 0);   /* 0.93 on the class's bound: healthy spread */
+    TV_CHECK_EQ_INT(backemf_case(1, ident, 2, 0, &dd), 200); /* on an identified unit's 0.95: shorted */
+    {
+        diag_detect_config_t cfg;
+        diag_detect_config_default(&cfg);
+        TV_CHECK_NEAR(cfg.ke_short_max, 0.86, 1e-6);
+        TV_CHECK_NEAR(cfg.ke_sigma_max, 0.03, 1e-6);
+        cfg.ke_short_max = TV_R(1.0);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+        diag_detect_config_default(&cfg);
+        cfg.ke_sigma_max = TV_R(0.0);
+        TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    }
+}
+
 int main(void)
 {
     TV_TEST_RUN(test_track_offset_named_within_50_ms);
+    TV_TEST_RUN(test_backemf_short);
     TV_TEST_RUN(test_jam_confirmed_within_100_ms);
     TV_TEST_RUN(test_sticky_plate_jam_within_100_ms_of_stall);
     TV_TEST_RUN(test_open_winding_confirmed_within_10_ms);
