@@ -166,7 +166,7 @@ def main():
     out, _ = expect([exe("replay"), "--r-angle", "1e-6", "--qu", "1e-4", path("raw.csv")], 0)
     check(body(out) != outs["csv"], "--r-angle / --qu change the estimates")
     out, _ = expect([exe("replay"), "--setup", "3", "--wide", path("raw.csv")], 0)
-    check(body(out)[0].endswith("innov_phi_sigma_rad,R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma,preload_rel,preload_rel_sigma,i_true_A,w_true_rad_s,phi_true_rad"),
+    check(body(out)[0].endswith("innov_phi_sigma_rad,R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma,preload_rel,preload_rel_sigma,R_fit_ohm,R_fit_sigma_ohm,nKe_fit_V_s_rad,nKe_fit_sigma_V_s_rad,i_true_A,w_true_rad_s,phi_true_rad"),
           "--wide columns")
     check(body(out)[2].split(",")[10] != "", "set-up 3 uses the velocity channel")
     # the winding-resistance estimate: the nominal plant's R (4.3 ohm, plant.h) within 3 sigma at the
@@ -175,6 +175,17 @@ def main():
     r_est, r_sig = float(last["R_est_ohm"]), float(last["R_sigma_ohm"])
     check(0.0 < r_sig < 0.5 and abs(r_est - 4.3) <= 3.0 * r_sig,
           f"R estimate {r_est:.4f} +- {r_sig:.4f} ohm against the plant's 4.3")
+    # the voltage equation's fit (volt_fit.h, a window of 1000 driven periods): empty before its
+    # first window, then, on a 2 s paper sine, the nominal plant's R and n Ke (40 x 0.017 V s/rad)
+    # within 3 %, with a sigma
+    expect([exe("host_sim"), "--duration", "2", "--out", path("sim_fit"), "--raw-log", path("fit.csv")], 0)
+    out, _ = expect([exe("replay"), "--wide", path("fit.csv")], 0)
+    rows = list(csv.DictReader(body(out)))
+    last = rows[-1]
+    check(rows[0]["R_fit_ohm"] == "" and rows[0]["nKe_fit_V_s_rad"] == "", "no fit before its first window")
+    r_fit, k_fit = float(last["R_fit_ohm"]), float(last["nKe_fit_V_s_rad"])
+    check(abs(r_fit / 4.3 - 1.0) <= 0.03 and abs(k_fit / 0.68 - 1.0) <= 0.03 and float(last["R_fit_sigma_ohm"]) > 0.0,
+          f"the fit's R {r_fit:.4f} ohm and n Ke {k_fit:.4f} V s/rad against the plant's 4.3 and 0.68")
 
     # --- bad input: each kind, its exit code, its location --------------------------------
     expect([exe("replay"), path("nonexistent.csv")], 1, "cannot open")

@@ -30,7 +30,8 @@ static const char s_columns[] =
     "innov_w_rad_s,innov_phi_rad,nis,nis_dof,faults,ekf_status,missing_samples";
 static const char s_wide_columns[] =
     ",i_meas_A,w_meas_rad_s,phi_meas_rad,supply_V,innov_i_sigma_A,innov_w_sigma_rad_s,innov_phi_sigma_rad,"
-    "R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma,preload_rel,preload_rel_sigma";
+    "R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma,preload_rel,preload_rel_sigma,R_fit_ohm,R_fit_sigma_ohm,"
+    "nKe_fit_V_s_rad,nKe_fit_sigma_V_s_rad";
 static const char s_truth_columns[] = ",i_true_A,w_true_rad_s,phi_true_rad";
 
 void replay_options_default(replay_options_t *o)
@@ -213,8 +214,8 @@ static size_t put_u(char *p, uint64_t v)
     return 1u + numfmt_u64(p + 1, v);
 }
 
-static size_t format_line(char *line, const rawlog_record_t *rec, const app_output_t *out, const replay_options_t *o,
-                          int truth)
+static size_t format_line(char *line, const rawlog_record_t *rec, const app_output_t *out, const vfit_t *fit,
+                          const replay_options_t *o, int truth)
 {
     size_t n = numfmt_u64(line, rec->t_us);
     int a;
@@ -261,6 +262,17 @@ static size_t format_line(char *line, const rawlog_record_t *rec, const app_outp
         n += put_g(line + n, (double)out->friction_rel_sigma);
         n += put_g(line + n, (double)out->preload_rel);
         n += put_g(line + n, (double)out->preload_rel_sigma);
+        if (fit->valid) {
+            /* the voltage equation's fit (volt_fit.h): its last window taken */
+            n += put_g(line + n, (double)fit->r_ohm);
+            n += put_g(line + n, (double)fit->r_sigma_ohm);
+            n += put_g(line + n, (double)fit->nke_V_s);
+            n += put_g(line + n, (double)fit->nke_sigma_V_s);
+        } else {
+            for (a = 0; a < 4; ++a) {
+                line[n++] = ',';
+            }
+        }
     }
     if (truth) {
         for (a = 0; a < 3; ++a) {
@@ -452,7 +464,7 @@ int replay_run(rlr_t *r, const replay_options_t *o, replay_stats_t *st)
             }
             if (o->out != NULL) {
                 const double t0 = o->timing ? now_s() : 0.0;
-                const size_t n = format_line(line, &rec, &out, o, r->has_truth);
+                const size_t n = format_line(line, &rec, &out, &app.vfit, o, r->has_truth);
                 if (fwrite(line, 1u, n, o->out) != n) {
                     st->io_error = 1;
                     break;
