@@ -249,13 +249,13 @@ typedef struct {
     vfit_t vfit;              /**< the voltage equation's fit (volt_fit.h): R and n Ke over driven periods */
     tv_real_t vf_i_prev;      /**< the measured current of the last sample [A] (the fit's period start) */
     tv_real_t vf_w_prev;      /**< the estimated velocity after the last sample's correction [rad/s] */
-    uint8_t vf_prev_ok;       /**< 1: the last sample had a plausible current and angle and a correction */
     sl_t sl;                  /**< stop-learning routine (APP_MODE_STOP_LEARN) and its last result */
     st_t st;                  /**< online stop tracking (stop_track.h): the estimator's stops follow the unit */
     il_t il;                  /**< impact learning (impact_learn.h): the estimator's contact law follows the unit's impacts */
     diag_t diag;              /**< diagnostic codes; the platform drains its events (diag_event_pop()) */
     diag_detect_t ddet;       /**< the detectors' state */
     uint8_t diag_bridge_on;   /**< 1: the bridge drove the period now ending (the open-winding check's condition) */
+    uint8_t vf_prev_ok;       /**< 1: the last sample had a plausible current and angle and a correction */
     tv_real_t tps_diff_mean;  /**< track agreement: weighted mean of phi1 - phi2 [rad] (app_output_t::tps_diff_rad) */
     tv_real_t tps_diff_var;   /**< its weighted variance [rad^2] */
     tv_real_t tps_diff_sd;    /**< sqrt(tps_diff_var) [rad] (app_output_t::tps_diff_sd_rad) */
