@@ -2781,7 +2781,7 @@ static void test_backemf_short(void)
                                            {TV_R(0.8), TV_R(0.82), TV_R(0.01)}};
     static const tv_real_t within_2sigma[2][3] = {{TV_R(0.8), TV_R(0.84), TV_R(0.015)}, {TV_R(0.8), TV_R(0.84), TV_R(0.015)}};
     static const tv_real_t r_high[2][3] = {{TV_R(1.05), TV_R(0.81), TV_R(0.01)}, {TV_R(1.05), TV_R(0.81), TV_R(0.01)}};
-    static const tv_real_t ident[2][3] = {{TV_R(0.9), TV_R(0.93), TV_R(0.005)}, {TV_R(0.9), TV_R(0.93), TV_R(0.005)}};
+    static const tv_real_t ident[2][3] = {{TV_R(0.93), TV_R(0.93), TV_R(0.005)}, {TV_R(0.93), TV_R(0.93), TV_R(0.005)}};
     TV_CHECK_EQ_INT(backemf_case(0, two_low, 0, 0, &dd), 0); /* no window: R at 0.9 alone passes */
     TV_CHECK_EQ_INT(backemf_case(0, two_low, 2, 0, &dd), 200); /* P1A01's confirmation count */
     TV_CHECK(dd.ke_short == 1u);
@@ -2794,6 +2794,13 @@ static void test_backemf_short(void)
     TV_CHECK(dd.ke_short == 0u);
     TV_CHECK_EQ_INT(backemf_case(0, ident, 2, 0, &dd), 0);   /* 0.93 on the class's bound: healthy spread */
     TV_CHECK_EQ_INT(backemf_case(1, ident, 2, 0, &dd), 200); /* on an identified unit's 0.95: shorted */
+    {
+        /* an identified unit: R must read below the bound too (a current offset's onset reads n Ke
+         * low for a second with R at 0.98) */
+        static const tv_real_t ke_only[2][3] = {{TV_R(0.98), TV_R(0.86), TV_R(0.02)}, {TV_R(0.98), TV_R(0.90), TV_R(0.015)}};
+        TV_CHECK_EQ_INT(backemf_case(1, ke_only, 2, 0, &dd), 0);
+        TV_CHECK_EQ_INT(backemf_case(0, ke_only, 2, 0, &dd), 0); /* 0.90 + 0.03 above the class's 0.86 */
+    }
     {
         diag_detect_config_t cfg;
         diag_detect_config_default(&cfg);

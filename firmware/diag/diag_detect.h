@@ -499,7 +499,8 @@ typedef struct {
                                        healthy units spread +-10 %: the lowest read 0.91; 20 % of the turns
                                        shorted reads 0.66 - 0.89 on them, 0.80 - 0.84 on a unit of the
                                        class's own constants); diag_detect_config_identified(): 0.95
-                                       (healthy identified units read 0.994 - 1.002) */
+                                       (healthy identified units read 0.994 - 1.002), where the
+                                       fit's R must read below the same fraction too */
     tv_real_t ke_sigma_max;       /**< ... a window counts when the fit's standard deviation of n Ke is at
                                        most this fraction of the model's [-], > 0; default 0.03 (a slow
                                        sine's creep leaves n Ke undetermined, read 0.4 - 1.6 with sigma
