@@ -247,16 +247,16 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     sim_jnum(f, r->r_20_ohm);
     fputs(", \"plant_20C_ohm\": ", f);
     sim_jnum(f, r->r_true_20_ohm);
-    fputs(", \"fit_ohm\": ", f);
-    sim_jnum(f, r->r_fit_ohm);
-    fputs(", \"fit_sigma_ohm\": ", f);
-    sim_jnum(f, r->r_fit_sigma_ohm);
-    fputs(", \"fit_nke_V_s_rad\": ", f);
-    sim_jnum(f, r->nke_fit_V_s);
-    fputs(", \"fit_nke_sigma_V_s_rad\": ", f);
-    sim_jnum(f, r->nke_fit_sigma_V_s);
-    fputs(", \"plant_nke_V_s_rad\": ", f);
-    sim_jnum(f, r->nke_true_V_s);
+    {
+        /* the voltage equation's fit (volt_fit.h) */
+        const char *const keys[] = {"fit_ohm", "fit_sigma_ohm", "fit_nke_V_s_rad", "fit_nke_sigma_V_s_rad", "plant_nke_V_s_rad"};
+        const double vals[] = {r->r_fit_ohm, r->r_fit_sigma_ohm, r->nke_fit_V_s, r->nke_fit_sigma_V_s, r->nke_true_V_s};
+        size_t k;
+        for (k = 0; k < sizeof vals / sizeof vals[0]; ++k) {
+            fprintf(f, ", \"%s\": ", keys[k]);
+            sim_jnum(f, vals[k]);
+        }
+    }
     fprintf(f, ", \"fit_windows\": %lu", (unsigned long)r->fit_windows);
     fputs("},\n  \"friction_level\": {\"estimate_rel\": ", f);
     sim_jnum(f, r->friction_rel);
