@@ -503,7 +503,7 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
      * back-EMF constant down as well: shorted turns, at the resistance check's rate (a
      * current-sensor gain also reads R low, with the back-EMF intact: the motor-constant
      * signature's P1A04) */
-    if (ratio < dd->cfg.r_low_frac || dd->ke_short ||
+    if (ratio < dd->cfg.r_low_frac || dd->ke_low_n >= DIAG_KE_SHORT_WINDOWS ||
         (temp_known && ratio < dd->cfg.r_low_frac_known &&
          (dd->kw_short || (dd->kw_ok && dd->isens_kw > dd->cfg.gain_kw_max)))) {
         (void)diag_report(d, DIAG_DTC_P1A01, DIAG_FAIL, snap, ratio);
@@ -523,7 +523,6 @@ void diag_backemf_check(diag_detect_t *dd, const diag_t *d, tv_real_t r_ratio, t
     }
     if (any_active(d, circuit, sizeof circuit / sizeof circuit[0])) {
         dd->ke_low_n = 0u;
-        dd->ke_short = 0u;
         return;
     }
     if (!TV_IS_FINITE(r_ratio) || !TV_IS_FINITE(ke_ratio) || !(ke_sigma_rel <= dd->cfg.ke_sigma_max)) {
@@ -537,13 +536,12 @@ void diag_backemf_check(diag_detect_t *dd, const diag_t *d, tv_real_t r_ratio, t
      * estimator's velocity takes up part of the step for a second) */
     const tv_real_t r_max = dd->cfg.identified ? dd->cfg.ke_short_max : TV_R(1.0);
     if (ke_ratio + TV_R(2.0) * ke_sigma_rel < dd->cfg.ke_short_max && r_ratio < r_max) {
-        if (dd->ke_low_n < 2u) {
+        if (dd->ke_low_n < DIAG_KE_SHORT_WINDOWS) {
             ++dd->ke_low_n;
         }
     } else {
         dd->ke_low_n = 0u;
     }
-    dd->ke_short = dd->ke_low_n >= 2u ? 1u : 0u;
 }
 
 /* A decayed sample count w and two sums over the same samples scaled to at most wmax samples
@@ -779,7 +777,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         /* MOTOR-CONSTANT SIGNATURE: the apparent resistance down and friction and preload up
          * together, i.e. the torque per measured ampere too small: a current-sensor gain (the
          * back-EMF intact) or shorted turns (the back-EMF constant down with them) */
-        (void)diag_report(d, !dd->kw_short && !dd->ke_short && dd->isens_kw <= dd->cfg.gain_kw_max ? DIAG_DTC_P1A04 : DIAG_DTC_P1A01,
+        (void)diag_report(d, !dd->kw_short && dd->ke_low_n < DIAG_KE_SHORT_WINDOWS && dd->isens_kw <= dd->cfg.gain_kw_max ? DIAG_DTC_P1A04 : DIAG_DTC_P1A01,
                           DIAG_FAIL, snap, dd->r_ratio);
     }
     if (mechanics_inhibited(d)) {

@@ -616,8 +616,8 @@ typedef struct {
     uint8_t kw_short;      /**< 1 once two judged driven windows in a row read kw above gain_kw_max
                                 since r_low was set: a back-EMF deficit (shorted turns) */
     uint8_t ke_low_n;      /**< the voltage equation's fit: windows in a row that read n Ke below
-                                ke_short_max (saturating at 2; diag_backemf_check()) */
-    uint8_t ke_short;      /**< 1 while the last two counted windows read it: shorted turns */
+                                ke_short_max (saturating at DIAG_KE_SHORT_WINDOWS;
+                                diag_backemf_check()); at DIAG_KE_SHORT_WINDOWS: shorted turns */
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint16_t offset_sig_n; /**< mechanics checks in a row that read the offset signature (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
@@ -774,10 +774,13 @@ void diag_circuit_check(diag_detect_t *dd, diag_t *d, int low1, int low2, tv_rea
 void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t current_A, tv_real_t r_est_ohm,
                            tv_real_t r_sigma_ohm, tv_real_t r_nom_ohm, int temp_known, const diag_snapshot_t *snap);
 
+/** Windows in a row of the back-EMF check that read shorted turns (diag_backemf_check()). */
+#define DIAG_KE_SHORT_WINDOWS 2u
+
 /**
  * The back-EMF check: one window of the voltage equation's fit (volt_fit.h), called when the fit
  * takes one. Two windows in a row whose n Ke reads below ke_short_max of the model's, with R below
- * the model's, set ke_short: the resistance check (diag_resistance_check()) then fails P1A01 at
+ * the model's (DIAG_KE_SHORT_WINDOWS) read shorted turns: the resistance check (diag_resistance_check()) then fails P1A01 at
  * its rate, and the motor-constant signature names shorted turns rather than a current gain (a
  * gain divides the fit's R, never its n Ke). A window whose n Ke has a standard deviation above
  * ke_sigma_max of the model's is not counted; while the open-winding or bridge code (P2100,

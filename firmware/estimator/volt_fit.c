@@ -78,8 +78,7 @@ int vfit_step(vfit_t *f, tv_real_t u_V, tv_real_t i0_A, tv_real_t i1_A, tv_real_
     tv_real_t i;
     tv_real_t w;
     tv_real_t y;
-    tv_real_t win[6];
-    int taken;
+    tv_real_t win[sizeof f->s / sizeof f->s[0]];
     unsigned b;
     unsigned c;
     if (f == NULL || !(u_V >= f->cfg.u_min_V || u_V <= -f->cfg.u_min_V)) {
@@ -113,10 +112,9 @@ int vfit_step(vfit_t *f, tv_real_t u_V, tv_real_t i0_A, tv_real_t i1_A, tv_real_
     }
     memset(win, 0, sizeof win);
     for (b = 0u; b < f->cfg.blocks; ++b) {
-        for (c = 0u; c < 6u; ++c) {
+        for (c = 0u; c < sizeof win / sizeof win[0]; ++c) {
             win[c] += f->ring[b][c];
         }
     }
-    taken = vfit_solve(f, win, (uint32_t)f->cfg.blocks * f->cfg.block);
-    return taken;
+    return vfit_solve(f, win, (uint32_t)f->cfg.blocks * f->cfg.block);
 }
