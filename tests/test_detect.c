@@ -2814,10 +2814,64 @@ static void test_backemf_short(void)
     }
 }
 
+/* The offset check of the voltage equation's fit (diag_isens_fit_check()): windows reading
+ * |b| >= 35 mA fail P1A04 (6 confirm), below 17.5 mA pass (the leaky counter's decrement), in
+ * between nothing; a window whose variance inflation is above 50 is not judged, nor any while the
+ * open-winding code is active. The freeze frame's value is the offset. */
+static void test_isens_fit_offset(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int k;
+    diag_detect_config_default(&cfg);
+    TV_CHECK_NEAR(cfg.isens_fit_max_A, 0.035, 1e-6);
+    TV_CHECK_NEAR(cfg.isens_fit_vif_max, 50.0, 1e-6);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_init(&d);
+    memset(&snap, 0, sizeof snap);
+    /* five failing windows: pending, not confirmed; a sixth confirms */
+    for (k = 0; k < 5; ++k) {
+        snap.t_us = (uint64_t)(k + 1) * 250000u;
+        diag_isens_fit_check(&d, &dd, TV_R(-0.05), TV_R(10.0), &snap);
+    }
+    TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P1A04) && d.code[DIAG_DTC_P1A04].counter == 5u);
+    /* in between (20 mA) and ill-determined (inflation 60): nothing */
+    diag_isens_fit_check(&d, &dd, TV_R(0.02), TV_R(1.0), &snap);
+    diag_isens_fit_check(&d, &dd, TV_R(0.2), TV_R(60.0), &snap);
+    diag_isens_fit_check(&d, &dd, (tv_real_t)NAN, TV_R(1.0), &snap);
+    TV_CHECK(d.code[DIAG_DTC_P1A04].counter == 5u);
+    /* a passing window (10 mA) takes one back */
+    diag_isens_fit_check(&d, &dd, TV_R(0.01), TV_R(1.0), &snap);
+    TV_CHECK(d.code[DIAG_DTC_P1A04].counter == 4u);
+    diag_isens_fit_check(&d, &dd, TV_R(0.035), TV_R(50.0), &snap); /* at both bounds: fails */
+    TV_CHECK(d.code[DIAG_DTC_P1A04].counter == 5u);
+    snap.t_us = 3000000u;
+    diag_isens_fit_check(&d, &dd, TV_R(-0.06), TV_R(2.0), &snap);
+    TV_CHECK(diag_confirmed(&d, DIAG_DTC_P1A04));
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, -0.06, 1e-6);
+    TV_CHECK_EQ_INT(d.code[DIAG_DTC_P1A04].freeze.t_us, 3000000u);
+    /* the open winding's code active: not judged */
+    diag_init(&d);
+    (void)diag_report(&d, DIAG_DTC_P2100, DIAG_FAIL, &snap, TV_R(0.0));
+    for (k = 0; k < 10; ++k) {
+        diag_isens_fit_check(&d, &dd, TV_R(0.1), TV_R(1.0), &snap);
+    }
+    TV_CHECK(d.code[DIAG_DTC_P1A04].counter == 0u && !diag_confirmed(&d, DIAG_DTC_P1A04));
+    /* the configuration's validation */
+    cfg.isens_fit_vif_max = TV_R(0.5);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    diag_detect_config_default(&cfg);
+    cfg.isens_fit_max_A = TV_R(0.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+}
+
 int main(void)
 {
     TV_TEST_RUN(test_track_offset_named_within_50_ms);
     TV_TEST_RUN(test_backemf_short);
+    TV_TEST_RUN(test_isens_fit_offset);
     TV_TEST_RUN(test_jam_confirmed_within_100_ms);
     TV_TEST_RUN(test_sticky_plate_jam_within_100_ms_of_stall);
     TV_TEST_RUN(test_open_winding_confirmed_within_10_ms);

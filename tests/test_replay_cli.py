@@ -166,7 +166,7 @@ def main():
     out, _ = expect([exe("replay"), "--r-angle", "1e-6", "--qu", "1e-4", path("raw.csv")], 0)
     check(body(out) != outs["csv"], "--r-angle / --qu change the estimates")
     out, _ = expect([exe("replay"), "--setup", "3", "--wide", path("raw.csv")], 0)
-    check(body(out)[0].endswith("innov_phi_sigma_rad,R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma,preload_rel,preload_rel_sigma,R_fit_ohm,R_fit_sigma_ohm,nKe_fit_V_s_rad,nKe_fit_sigma_V_s_rad,i_true_A,w_true_rad_s,phi_true_rad"),
+    check(body(out)[0].endswith("innov_phi_sigma_rad,R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma,preload_rel,preload_rel_sigma,R_fit_ohm,R_fit_sigma_ohm,nKe_fit_V_s_rad,nKe_fit_sigma_V_s_rad,i_off_fit_A,i_off_fit_sigma_A,i_true_A,w_true_rad_s,phi_true_rad"),
           "--wide columns")
     check(body(out)[2].split(",")[10] != "", "set-up 3 uses the velocity channel")
     # the winding-resistance estimate: the nominal plant's R (4.3 ohm, plant.h) within 3 sigma at the
@@ -186,6 +186,16 @@ def main():
     r_fit, k_fit = float(last["R_fit_ohm"]), float(last["nKe_fit_V_s_rad"])
     check(abs(r_fit / 4.3 - 1.0) <= 0.03 and abs(k_fit / 0.68 - 1.0) <= 0.03 and float(last["R_fit_sigma_ohm"]) > 0.0,
           f"the fit's R {r_fit:.4f} ohm and n Ke {k_fit:.4f} V s/rad against the plant's 4.3 and 0.68")
+    # ... and the current's offset from its fit with an intercept: about 0 on the healthy plant,
+    # the injected +50 mA within 10 mA when the sensor reads it from the start
+    b0 = float(last["i_off_fit_A"])
+    check(rows[0]["i_off_fit_A"] == "" and abs(b0) <= 0.01 and float(last["i_off_fit_sigma_A"]) > 0.0,
+          f"the fit's current offset {b0 * 1000:.1f} mA on the healthy plant")
+    expect([exe("host_sim"), "--duration", "2", "--fault", "current_offset:0.05@0", "--out", path("sim_off"),
+            "--raw-log", path("off.csv")], 0)
+    out, _ = expect([exe("replay"), "--wide", path("off.csv")], 0)
+    b1 = float(list(csv.DictReader(body(out)))[-1]["i_off_fit_A"])
+    check(abs(b1 - 0.05) <= 0.01, f"the fit's current offset {b1 * 1000:.1f} mA with +50 mA injected")
 
     # --- bad input: each kind, its exit code, its location --------------------------------
     expect([exe("replay"), path("nonexistent.csv")], 1, "cannot open")

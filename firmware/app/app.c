@@ -964,11 +964,18 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
         const tv_real_t w1 = app->ekf.x[TVM_W];
         const uint8_t ok = out->ekf_status == TV_OK && angle_ok && (out->degraded & APP_DEGRADED_CURRENT) == 0u ? 1u : 0u;
         if (ok && app->vf_prev_ok && periods == 1u && app->diag_bridge_on) {
-            if (vfit_step(&app->vfit, app->u_applied_V, app->vf_i_prev, current, app->vf_w_prev, w1)) {
+            /* (the differentiated angle is over this period: the last sample's angle was plausible) */
+            const int took = vfit_step(&app->vfit, app->u_applied_V, app->vf_i_prev, current, app->vf_w_prev, w1,
+                                       meas.z[EKF_CH_VELOCITY]);
+            if (took & VFIT_TOOK_FIT) {
                 /* a window taken: the back-EMF check against the model's constants */
                 const tv_real_t k_nom = app->ekf.model.nKe_V_s;
                 diag_backemf_check(&app->ddet, &app->diag, app->vfit.r_ohm / (app->ekf.model.p.R_ohm * app->r_temp_factor),
                                    app->vfit.nke_V_s / k_nom, app->vfit.nke_sigma_V_s / k_nom);
+            }
+            if ((took & VFIT_TOOK_OFFSET) && app->cfg.control.mode != APP_MODE_STOP_LEARN && app->cfg.control.mode != APP_MODE_IDENT) {
+                /* the model in service only (diag_isens_fit_check()) */
+                diag_isens_fit_check(&app->diag, &app->ddet, app->vfit.i_off_A, app->vfit.i_off_vif, &dsnap);
             }
         }
         app->vf_prev_ok = ok;

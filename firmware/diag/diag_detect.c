@@ -43,6 +43,8 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->supply_hyst_V = TV_R(0.5);
     cfg->isens_zero_max_A = TV_R(0.02);
     cfg->isens_bias_max_A = TV_R(0.035);
+    cfg->isens_fit_max_A = TV_R(0.035);
+    cfg->isens_fit_vif_max = TV_R(50.0);
     cfg->isens_i_max_hold = TV_R(0.8);
     cfg->isens_innov_max_A = TV_R(0.15);
     cfg->isens_vif_max = TV_R(6.0);
@@ -108,7 +110,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->r_excite_A,       cfg->friction_high_rel, cfg->friction_sigma_max,
                                  cfg->preload_low_rel,  cfg->preload_sigma_max, cfg->param_excite_rad_s,
                                  cfg->bridge_lost_frac, cfg->supply_low_V,      cfg->supply_hyst_V,
-                                 cfg->isens_zero_max_A, cfg->isens_bias_max_A,  cfg->isens_vif_max,
+                                 cfg->isens_zero_max_A, cfg->isens_bias_max_A,  cfg->isens_fit_max_A, cfg->isens_fit_vif_max, cfg->isens_vif_max,
                                  cfg->isens_i_max_hold, cfg->isens_innov_max_A,
                                  cfg->torque_tau_samples, cfg->torque_min_weight, cfg->torque_corr_max,
                                  cfg->torque_clip_Nm,   cfg->torque_w_min_rad_s, cfg->torque_move_min_rad, cfg->torque_accel_max_Nm,
@@ -130,7 +132,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_high_frac_known > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0)) ||
         !(cfg->r_low_frac_known < TV_R(1.0)) ||
         !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0)) ||
-        !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) ||
+        !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) || !(cfg->isens_fit_vif_max >= TV_R(1.0)) ||
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
         !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u ||
         !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_r_known_max < TV_R(1.0)) ||
@@ -541,6 +543,22 @@ void diag_backemf_check(diag_detect_t *dd, const diag_t *d, tv_real_t r_ratio, t
         }
     } else {
         dd->ke_low_n = 0u;
+    }
+}
+
+void diag_isens_fit_check(diag_t *d, const diag_detect_t *dd, tv_real_t offset_A, tv_real_t vif, const diag_snapshot_t *snap)
+{
+    static const diag_dtc_t circuit[] = {DIAG_DTC_P2100, DIAG_DTC_P1A03};
+    tv_real_t mag;
+    if (dd == NULL || d == NULL || snap == NULL || !TV_IS_FINITE(offset_A) || !(vif <= dd->cfg.isens_fit_vif_max) ||
+        any_active(d, circuit, sizeof circuit / sizeof circuit[0])) {
+        return;
+    }
+    mag = TV_FABS(offset_A);
+    if (mag >= dd->cfg.isens_fit_max_A) {
+        (void)diag_report(d, DIAG_DTC_P1A04, DIAG_FAIL, snap, offset_A);
+    } else if (mag < TV_R(0.5) * dd->cfg.isens_fit_max_A) {
+        (void)diag_report(d, DIAG_DTC_P1A04, DIAG_PASS, snap, offset_A);
     }
 }
 

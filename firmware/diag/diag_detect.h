@@ -392,6 +392,16 @@ typedef struct {
                                        diag_detect_config_identified() (a 50 mA offset reads 0.030 -
                                        0.034 there, healthy identified units within 0.013 but for
                                        single windows in closed-loop driving) */
+    tv_real_t isens_fit_max_A;    /**< |offset| the voltage equation's fit reads (volt_fit.h, vfit_t::i_off_A)
+                                       at or above which P1A04 fails [A], > 0; below half of it the window
+                                       passes, in between nothing (diag_isens_fit_check()); default 0.035
+                                       (the fault matrix's healthy evaluation runs read at most 0.025, +50 mA
+                                       0.045 - 0.064 once the window lies after the onset) */
+    tv_real_t isens_fit_vif_max;  /**< ... judged while that offset's variance inflation (vfit_t::i_off_vif) is at
+                                       most this [-], >= 1; default 50 (a closed-loop ramp's slow, steady motion
+                                       leaves current and velocity near their means: its windows' inflation is
+                                       48 - 8e12, median 13,600, and they read offsets of amps on healthy units;
+                                       closed-loop driving's windows 1 - 177, median 10, the offset right) */
     tv_real_t isens_vif_max;      /**< the window is judged while its intercept's variance inflation is
                                        at most this [-], >= 1; default 6 (with 20, a healthy unit whose
                                        small currents came at one high speed had its back-EMF error
@@ -790,6 +800,23 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
  * @param ke_sigma_rel its standard deviation over the model's n Ke [-]
  */
 void diag_backemf_check(diag_detect_t *dd, const diag_t *d, tv_real_t r_ratio, tv_real_t ke_ratio, tv_real_t ke_sigma_rel);
+
+/**
+ * The offset check of the voltage equation's fit (P1A04): one window of its instrumental-variable
+ * fit with an intercept (volt_fit.h), called when the fit gives one. The offset b it reads at or
+ * above isens_fit_max_A in magnitude fails P1A04, below half of it passes, in between nothing (a
+ * 20 mA offset, or a healthy unit's model errors at their largest, neither adds to the code's
+ * leaky counter nor takes from it). Not judged while the open-winding or bridge code (P2100,
+ * P1A03) is pending or confirmed: the voltage the bridge applies is then not the winding's; nor
+ * while the offset's variance inflation is above isens_fit_vif_max (the regressors' means
+ * confound it). The caller judges only the model in service (not during stop learning or the
+ * identification sequence: their drives against the stops read offsets of 35 mA and more on
+ * healthy units with an inflation of 10 - 50).
+ * @param offset_A the fit's offset b [A] (the freeze frame's value)
+ * @param vif      its variance inflation [-]
+ * @param snap     the step's snapshot
+ */
+void diag_isens_fit_check(diag_t *d, const diag_detect_t *dd, tv_real_t offset_A, tv_real_t vif, const diag_snapshot_t *snap);
 
 /**
  * The adapted-mechanics check (see the file comment); reports P2119, P1A02. Call once per step:

@@ -70,10 +70,70 @@ static int vfit_solve(vfit_t *f, const tv_real_t *s, uint32_t n)
     f->nke_sigma_V_s = TV_SQRT(var * s[0] / det);
     f->valid = 1u;
     ++f->windows;
-    return 1;
+    return VFIT_TOOK_FIT;
 }
 
-int vfit_step(vfit_t *f, tv_real_t u_V, tv_real_t i0_A, tv_real_t i1_A, tv_real_t w0_rad_s, tv_real_t w1_rad_s)
+/* The same window's instrumental-variable fit with an intercept (volt_fit.h): the centred sums
+ * C_ab = S_ab - S_a S_b / n of the instruments z = (i, w) against the regressors x = (i, v) and
+ * y, theta = (R_c, n Ke_c) from A theta = c with A = C_zx, c = C_zy; u0 = mean y - theta' mean x;
+ * var(u0) = s^2 (1 / n + q' C_zz q) = s^2 vif / n, q = A^-T mean x. The offset b = -u0 / R_c. */
+static int vfit_offset(vfit_t *f, const tv_real_t *s, uint32_t n)
+{
+    const tv_real_t inv_n = TV_R(1.0) / (tv_real_t)n;
+    const tv_real_t mi = s[6] * inv_n;
+    const tv_real_t mw = s[7] * inv_n;
+    const tv_real_t my = s[8] * inv_n;
+    const tv_real_t mv = s[13] * inv_n;
+    const tv_real_t cii = s[0] - s[6] * mi;
+    const tv_real_t ciw = s[1] - s[6] * mw;
+    const tv_real_t cww = s[2] - s[7] * mw;
+    const tv_real_t ciy = s[3] - s[6] * my;
+    const tv_real_t cwy = s[4] - s[7] * my;
+    const tv_real_t cyy = s[5] - s[8] * my;
+    const tv_real_t civ = s[9] - s[6] * mv;
+    const tv_real_t cwv = s[10] - s[7] * mv;
+    const tv_real_t cvv = s[11] - s[13] * mv;
+    const tv_real_t cvy = s[12] - s[13] * my;
+    /* A = [cii civ; ciw cwv] */
+    const tv_real_t det = cii * cwv - civ * ciw;
+    tv_real_t r;
+    tv_real_t k;
+    tv_real_t var;
+    tv_real_t q0;
+    tv_real_t q1;
+    tv_real_t b;
+    tv_real_t vif;
+    /* the instruments (nearly) collinear, or either constant: not apart */
+    if (!(cii > TV_R(0.0)) || !(cww > TV_R(0.0)) || !(ciw * ciw <= f->cfg.rho2_max * cii * cww) || !(det > TV_R(0.0))) {
+        return 0;
+    }
+    r = (cwv * ciy - civ * cwy) / det;
+    k = (cii * cwy - ciw * ciy) / det;
+    if (!(r > TV_R(0.0))) {
+        return 0;
+    }
+    /* residual sum of squares of y - r i - k v (centred), per degree of freedom, times the correlation length */
+    var = (cyy - TV_R(2.0) * (r * ciy + k * cvy) + r * r * cii + TV_R(2.0) * r * k * civ + k * k * cvv) / (tv_real_t)(n - 3u) *
+          f->cfg.corr_periods;
+    if (var < TV_R(0.0)) {
+        var = TV_R(0.0); /* rounding of a near-perfect fit */
+    }
+    q0 = (cwv * mi - ciw * mv) / det;
+    q1 = (cii * mv - civ * mi) / det;
+    b = -(my - r * mi - k * mv) / r;
+    vif = TV_R(1.0) + (tv_real_t)n * (q0 * q0 * cii + TV_R(2.0) * q0 * q1 * ciw + q1 * q1 * cww);
+    if (!TV_IS_FINITE(b) || !TV_IS_FINITE(vif)) {
+        return 0;
+    }
+    f->i_off_A = b;
+    f->i_off_vif = vif;
+    f->i_off_sigma_A = TV_SQRT(var * inv_n * vif) / r;
+    f->off_valid = 1u;
+    return VFIT_TOOK_OFFSET;
+}
+
+int vfit_step(vfit_t *f, tv_real_t u_V, tv_real_t i0_A, tv_real_t i1_A, tv_real_t w0_rad_s, tv_real_t w1_rad_s,
+              tv_real_t v_rad_s)
 {
     tv_real_t i;
     tv_real_t w;
@@ -87,7 +147,7 @@ int vfit_step(vfit_t *f, tv_real_t u_V, tv_real_t i0_A, tv_real_t i1_A, tv_real_
     i = TV_R(0.5) * (i0_A + i1_A);
     w = TV_R(0.5) * (w0_rad_s + w1_rad_s);
     y = u_V - f->l_over_t * (i1_A - i0_A);
-    if (!TV_IS_FINITE(i) || !TV_IS_FINITE(w) || !TV_IS_FINITE(y)) {
+    if (!TV_IS_FINITE(i) || !TV_IS_FINITE(w) || !TV_IS_FINITE(y) || !TV_IS_FINITE(v_rad_s)) {
         return 0;
     }
     f->s[0] += i * i;
@@ -96,6 +156,14 @@ int vfit_step(vfit_t *f, tv_real_t u_V, tv_real_t i0_A, tv_real_t i1_A, tv_real_
     f->s[3] += i * y;
     f->s[4] += w * y;
     f->s[5] += y * y;
+    f->s[6] += i;
+    f->s[7] += w;
+    f->s[8] += y;
+    f->s[9] += i * v_rad_s;
+    f->s[10] += w * v_rad_s;
+    f->s[11] += v_rad_s * v_rad_s;
+    f->s[12] += v_rad_s * y;
+    f->s[13] += v_rad_s;
     if (++f->n < f->cfg.block) {
         return 0;
     }
@@ -116,5 +184,5 @@ int vfit_step(vfit_t *f, tv_real_t u_V, tv_real_t i0_A, tv_real_t i1_A, tv_real_
             win[c] += f->ring[b][c];
         }
     }
-    return vfit_solve(f, win, (uint32_t)f->cfg.blocks * f->cfg.block);
+    return vfit_offset(f, win, (uint32_t)f->cfg.blocks * f->cfg.block) | vfit_solve(f, win, (uint32_t)f->cfg.blocks * f->cfg.block);
 }

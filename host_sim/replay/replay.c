@@ -31,7 +31,7 @@ static const char s_columns[] =
 static const char s_wide_columns[] =
     ",i_meas_A,w_meas_rad_s,phi_meas_rad,supply_V,innov_i_sigma_A,innov_w_sigma_rad_s,innov_phi_sigma_rad,"
     "R_est_ohm,R_sigma_ohm,friction_rel,friction_rel_sigma,preload_rel,preload_rel_sigma,R_fit_ohm,R_fit_sigma_ohm,"
-    "nKe_fit_V_s_rad,nKe_fit_sigma_V_s_rad";
+    "nKe_fit_V_s_rad,nKe_fit_sigma_V_s_rad,i_off_fit_A,i_off_fit_sigma_A";
 static const char s_truth_columns[] = ",i_true_A,w_true_rad_s,phi_true_rad";
 
 void replay_options_default(replay_options_t *o)
@@ -272,6 +272,14 @@ static size_t format_line(char *line, const rawlog_record_t *rec, const app_outp
             for (a = 0; a < 4; ++a) {
                 line[n++] = ',';
             }
+        }
+        if (fit->off_valid) {
+            /* ... and the current measurement's offset from its fit with an intercept */
+            n += put_g(line + n, (double)fit->i_off_A);
+            n += put_g(line + n, (double)fit->i_off_sigma_A);
+        } else {
+            line[n++] = ',';
+            line[n++] = ',';
         }
     }
     if (truth) {

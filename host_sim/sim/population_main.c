@@ -693,7 +693,7 @@ int main(int argc, char **argv)
         }
         fprintf(csv, "section,unit,class,scenario,seed,rmse_filter_rad_s,rmse_diff_rad_s,ratio,nees_avg,nees_window_max,"
                      "consistency_flagged,faults,dtc_confirmed,dtc_pending,dtc_first_s,duration_s,r_est_ohm,r_true_ohm,friction_rel,friction_rel_true,preload_rel,"
-                     "preload_rel_true,r_fit_ohm,r_fit_sigma_ohm,nke_fit_V_s_rad,nke_fit_sigma_V_s_rad,nke_true_V_s_rad,contact_k,contact_exponent,contact_alpha_s_rad,impacts_learned,t_condition_s,injected,dtc_codes\n");
+                     "preload_rel_true,r_fit_ohm,r_fit_sigma_ohm,nke_fit_V_s_rad,nke_fit_sigma_V_s_rad,nke_true_V_s_rad,i_off_fit_A,i_off_fit_sigma_A,contact_k,contact_exponent,contact_alpha_s_rad,impacts_learned,t_condition_s,injected,dtc_codes\n");
     }
 
     /* the nominal unit of class A, the paper's experiment, seed 1, with the same --params */
@@ -826,8 +826,8 @@ int main(int argc, char **argv)
                                 (int)r.faults, (unsigned long)run->dtc, (unsigned long)run->dtc_pending, run->dtc_first_s);
                         fprintf(csv, "%.4f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,", r.duration_s - opt.warmup_s, r.r_est_ohm,
                                 r.r_true_ohm, r.friction_rel, r.friction_rel_true, r.preload_rel, r.preload_rel_true);
-                        fprintf(csv, "%.6g,%.6g,%.6g,%.6g,%.6g,", r.r_fit_ohm, r.r_fit_sigma_ohm, r.nke_fit_V_s,
-                                r.nke_fit_sigma_V_s, r.nke_true_V_s);
+                        fprintf(csv, "%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,", r.r_fit_ohm, r.r_fit_sigma_ohm, r.nke_fit_V_s,
+                                r.nke_fit_sigma_V_s, r.nke_true_V_s, r.i_off_fit_A, r.i_off_fit_sigma_A);
                         fprintf(csv, "%.6g,%.6g,%.6g,%lu,%.4f,", r.contact_k, r.contact_exponent, r.contact_alpha_s_rad,
                                 (unsigned long)r.impact_learned, sim_cond_time(&cond));
                         write_injected(csv);

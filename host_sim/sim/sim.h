@@ -253,6 +253,9 @@ typedef struct {
     double nke_fit_V_s;              /**< the fit's back-EMF constant at the plate, n Ke [V s/rad] (NaN likewise) */
     double nke_fit_sigma_V_s;        /**< its standard deviation [V s/rad] (NaN likewise) */
     double nke_true_V_s;             /**< the plant's n Ke [V s/rad] (with an injected fault's) */
+    double i_off_fit_A;              /**< the current measurement's offset the fit with an intercept reads (vfit_t::i_off_A)
+                                          [A]; NaN when no window gave one */
+    double i_off_fit_sigma_A;        /**< its standard deviation [A] (NaN likewise) */
     uint32_t fit_windows;            /**< windows the fit took */
     double friction_rel;             /**< the filter's friction level relative to its model's, 1 + f, at the end [-] */
     double friction_rel_sigma;       /**< its standard deviation [-] (0: no friction-error state) */

@@ -124,9 +124,9 @@ int sim_result_print(FILE *f, const sim_result_t *r)
     fprintf(f, "winding resistance at the end: estimate %.4g +- %.3g ohm (R + dR, ekf_resistance_error()), plant %.4g ohm\n",
             r->r_est_ohm, r->r_sigma_ohm, r->r_true_ohm);
     fprintf(f, "  the voltage equation's fit (volt_fit.h, last of %lu windows): R %.4g +- %.3g ohm, n Ke %.4g +- %.3g V s/rad, "
-               "plant %.4g V s/rad\n",
+               "plant %.4g V s/rad; with an intercept, the current's offset %.3g +- %.3g A\n",
             (unsigned long)r->fit_windows, r->r_fit_ohm, r->r_fit_sigma_ohm, r->nke_fit_V_s, r->nke_fit_sigma_V_s,
-            r->nke_true_V_s);
+            r->nke_true_V_s, r->i_off_fit_A, r->i_off_fit_sigma_A);
     if (isfinite(r->r_20_ohm)) {
         fprintf(f, "  referred to 20 degC with the winding temperature the application was told: %.4g ohm, plant %.4g ohm\n",
                 r->r_20_ohm, r->r_true_20_ohm);
@@ -249,8 +249,10 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     sim_jnum(f, r->r_true_20_ohm);
     {
         /* the voltage equation's fit (volt_fit.h) */
-        const char *const keys[] = {"fit_ohm", "fit_sigma_ohm", "fit_nke_V_s_rad", "fit_nke_sigma_V_s_rad", "plant_nke_V_s_rad"};
-        const double vals[] = {r->r_fit_ohm, r->r_fit_sigma_ohm, r->nke_fit_V_s, r->nke_fit_sigma_V_s, r->nke_true_V_s};
+        const char *const keys[] = {"fit_ohm", "fit_sigma_ohm", "fit_nke_V_s_rad", "fit_nke_sigma_V_s_rad", "plant_nke_V_s_rad",
+                                    "fit_current_offset_A", "fit_current_offset_sigma_A"};
+        const double vals[] = {r->r_fit_ohm, r->r_fit_sigma_ohm, r->nke_fit_V_s, r->nke_fit_sigma_V_s, r->nke_true_V_s,
+                               r->i_off_fit_A, r->i_off_fit_sigma_A};
         size_t k;
         for (k = 0; k < sizeof vals / sizeof vals[0]; ++k) {
             fprintf(f, ", \"%s\": ", keys[k]);

@@ -655,6 +655,8 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->nke_fit_V_s = vf->valid ? (double)vf->nke_V_s : (double)NAN;
         res->nke_fit_sigma_V_s = vf->valid ? (double)vf->nke_sigma_V_s : (double)NAN;
         res->nke_true_V_s = pcfg.n_gear * pcfg.Ke_V_s_rad;
+        res->i_off_fit_A = vf->off_valid ? (double)vf->i_off_A : (double)NAN;
+        res->i_off_fit_sigma_A = vf->off_valid ? (double)vf->i_off_sigma_A : (double)NAN;
     }
     {
         tv_real_t f;
