@@ -246,6 +246,12 @@ static void typed_telemetry(const can_proto_telemetry_t *tm, uint8_t counter)
             expect(m->name, "TrackDiffSd", (double)tm->tps_diff_sd_rad);
             expect(m->name, "ResistanceRef20", (double)tm->r_20_ohm);
             break;
+        case CAN_PROTO_ID_HEALTH_4:
+            expect(m->name, "FitResistance", (double)tm->fit_r_ohm);
+            expect(m->name, "FitResistanceSigma", (double)tm->fit_r_sigma_ohm);
+            expect(m->name, "FitBackEmf", (double)tm->fit_nke_V_s);
+            expect(m->name, "FitCurrentOffset", (double)tm->fit_i_off_A);
+            break;
         case CAN_PROTO_ID_DIAG:
             expect(m->name, "DtcCount", (double)tm->dtc_count);
             expect(m->name, "LastDtc", (double)tm->last_dtc);
@@ -324,6 +330,10 @@ static void telemetry_sets(void)
     a.tps_diff_rad = -0.00321f;
     a.tps_diff_sd_rad = 0.000456f;
     a.r_20_ohm = 4.123f;
+    a.fit_r_ohm = 3.987f;
+    a.fit_r_sigma_ohm = 0.0123f;
+    a.fit_nke_V_s = 0.1234f;
+    a.fit_i_off_A = -0.0351f;
     a.dtc_count = 2u;
     a.last_dtc = 6u;
     a.last_dtc_status = 1u;
@@ -387,6 +397,10 @@ static void telemetry_sets(void)
     a.tps_diff_rad = 0.3f;
     a.tps_diff_sd_rad = 0.065f;
     a.r_20_ohm = 16.38f;
+    a.fit_r_ohm = 16.38f;
+    a.fit_r_sigma_ohm = 1.02f;
+    a.fit_nke_V_s = 2.047f;
+    a.fit_i_off_A = 0.2047f;
     a.dtc_count = 15u;
     a.last_dtc = CAN_PROTO_DTC_NONE;
     a.last_dtc_status = 2u;

@@ -143,6 +143,34 @@ static void test_control_frame_bytes_match_documented_layout(void)
     }
 }
 
+/* The bytes of one TV_HEALTH_4 frame, worked out by hand from the layout in can_proto.h:
+ * FitResistance 4.2764 ohm / 0.001 = 4276 = 0x10B4 at bits 16..29, FitResistanceSigma 0.0789 ohm
+ * / 0.001 = 78.9 -> 79 = 0x04F at 30..39, FitBackEmf 0.6789 V s/rad / 0.0005 = 1357.8 -> 1358 =
+ * 0x54E at 40..51, FitCurrentOffset -0.0437 A / 0.0001 = -437 -> 4096 - 437 = 0xE4B (12-bit two's
+ * complement) at 52..63; bits 12..15 reserved (0). */
+static void test_health_4_frame_bytes_match_documented_layout(void)
+{
+    can_proto_telemetry_t tm;
+    hal_can_frame_t f;
+    uint8_t crc_in[9] = {0x8E, 0x01, 0x09, 0xB4, 0xD0, 0x13, 0x4E, 0xB5, 0xE4};
+    memset(&tm, 0, sizeof tm);
+    tm.fit_r_ohm = 4.2764f;
+    tm.fit_r_sigma_ohm = 0.0789f;
+    tm.fit_nke_V_s = 0.6789f;
+    tm.fit_i_off_A = -0.0437f;
+    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_4, &tm, 9u, &f), TV_OK);
+    TV_CHECK_EQ_INT(f.id, 0x18E);
+    TV_CHECK_EQ_INT(f.dlc, 8);
+    TV_CHECK_EQ_INT(f.data[1], 0x09); /* counter 9, reserved bits 12..15 zero */
+    TV_CHECK_EQ_INT(f.data[2], 0xB4); /* R: bits 16..23 */
+    TV_CHECK_EQ_INT(f.data[3], 0xD0); /* R's top 6 bits 0x10 | sigma's low 2 bits (3) << 6 */
+    TV_CHECK_EQ_INT(f.data[4], 0x13); /* sigma >> 2 = 19 */
+    TV_CHECK_EQ_INT(f.data[5], 0x4E); /* n Ke: bits 40..47 */
+    TV_CHECK_EQ_INT(f.data[6], 0xB5); /* n Ke's top nibble 5 | the offset's low nibble 0xB << 4 */
+    TV_CHECK_EQ_INT(f.data[7], 0xE4); /* the offset >> 4 */
+    TV_CHECK_EQ_INT(f.data[0], can_proto_crc8(crc_in, sizeof crc_in));
+}
+
 /* Every frame of the table: 11-bit id in the documented block, CRC then Counter first, signals
  * inside the 64 bits and not overlapping. */
 static void test_signal_table_is_consistent(void)
@@ -394,6 +422,10 @@ static void test_telemetry_round_trips_and_saturates(void)
     tm.tps_diff_rad = -0.012345f;
     tm.tps_diff_sd_rad = 0.0004567f;
     tm.r_20_ohm = 3.9876f;
+    tm.fit_r_ohm = 4.2764f;
+    tm.fit_r_sigma_ohm = 0.0789f;
+    tm.fit_nke_V_s = 0.6789f;
+    tm.fit_i_off_A = -0.0437f;
     tm.dtc_count = 3u;
     tm.last_dtc = 7u;
     tm.last_dtc_status = 2u;
@@ -472,6 +504,10 @@ static void test_telemetry_round_trips_and_saturates(void)
     TV_CHECK_NEAR(back.tps_diff_rad, -0.012345, 0.5e-5 + 1e-8);
     TV_CHECK_NEAR(back.tps_diff_sd_rad, 0.0004567, 0.5e-6 + 1e-9);
     TV_CHECK_NEAR(back.r_20_ohm, 3.9876, 0.0005 + 1e-6);
+    TV_CHECK_NEAR(back.fit_r_ohm, 4.2764, 0.0005 + 1e-6);
+    TV_CHECK_NEAR(back.fit_r_sigma_ohm, 0.0789, 0.0005 + 1e-7);
+    TV_CHECK_NEAR(back.fit_nke_V_s, 0.6789, 0.00025 + 1e-6);
+    TV_CHECK_NEAR(back.fit_i_off_A, -0.0437, 0.00005 + 1e-7);
     TV_CHECK_EQ_INT(back.dtc_mask, 0x0181);
     TV_CHECK_NEAR(back.last_dtc_time_s, 123.4, 1e-4); /* 123.44 s to 0.1 s */
     TV_CHECK_EQ_INT(back.freeze_dtc, 7);
@@ -500,6 +536,36 @@ static void test_telemetry_round_trips_and_saturates(void)
     tm.tps_diff_rad = -1.0f;
     round_trip(CAN_PROTO_ID_HEALTH_3, &tm, &back);
     TV_CHECK_NEAR(back.tps_diff_rad, -0.32768, 1e-6);
+    /* the fit's values: the offset's sign both ways, then every field saturating at both ends */
+    tm.fit_i_off_A = 0.0437f;
+    round_trip(CAN_PROTO_ID_HEALTH_4, &tm, &back);
+    TV_CHECK_NEAR(back.fit_i_off_A, 0.0437, 0.00005 + 1e-7);
+    tm.fit_i_off_A = -0.0001f; /* one count below zero: the sign bit, all ones */
+    round_trip(CAN_PROTO_ID_HEALTH_4, &tm, &back);
+    TV_CHECK_NEAR(back.fit_i_off_A, -0.0001, 1e-8);
+    tm.fit_r_ohm = 20.0f;
+    tm.fit_r_sigma_ohm = 5.0f;
+    tm.fit_nke_V_s = 3.0f;
+    tm.fit_i_off_A = 1.0f;
+    round_trip(CAN_PROTO_ID_HEALTH_4, &tm, &back);
+    TV_CHECK_NEAR(back.fit_r_ohm, 16.383, 1e-5);
+    TV_CHECK_NEAR(back.fit_r_sigma_ohm, 1.023, 1e-6);
+    TV_CHECK_NEAR(back.fit_nke_V_s, 2.0475, 1e-6);
+    TV_CHECK_NEAR(back.fit_i_off_A, 0.2047, 1e-7);
+    tm.fit_r_ohm = -1.0f; /* cannot happen; the unsigned fields saturate at 0 */
+    tm.fit_r_sigma_ohm = -1.0f;
+    tm.fit_nke_V_s = -1.0f;
+    tm.fit_i_off_A = -1.0f;
+    round_trip(CAN_PROTO_ID_HEALTH_4, &tm, &back);
+    TV_CHECK_NEAR(back.fit_r_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_r_sigma_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_nke_V_s, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_i_off_A, -0.2048, 1e-7);
+    tm.fit_r_ohm = (float)NAN; /* sent as 0 */
+    tm.fit_i_off_A = (float)NAN;
+    round_trip(CAN_PROTO_ID_HEALTH_4, &tm, &back);
+    TV_CHECK_NEAR(back.fit_r_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_i_off_A, 0.0, 0.0);
 
     /* saturation at both ends and NaN */
     tm.est[0] = 1e6f;
@@ -914,8 +980,9 @@ static void test_telemetry_schedule(void)
             const uint8_t c = can_proto_frame_counter(&frames[i]);
             if (count[idx] == 0u) {
                 /* documented offsets: k ms for k <= EKF_STATS, TV_TIME 0, the health and
-                 * diagnostic frames 8, 9, 18, 19 ms, TV_HEALTH_3 28 ms */
-                static const unsigned first_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 0u, 8u, 9u, 18u, 19u, 28u};
+                 * diagnostic frames 8, 9, 18, 19 ms, TV_HEALTH_3 28 ms, TV_HEALTH_4 29 ms */
+                static const unsigned first_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u,  4u,  5u,  6u, 7u,
+                                                                  0u, 8u, 9u, 18u, 19u, 28u, 29u};
                 TV_CHECK_EQ_INT(t, first_ms[idx] * 1000u);
             } else if (c != (uint8_t)((last_ctr[idx] + 1u) & 15u)) {
                 ctr_ok = 0;
@@ -945,8 +1012,8 @@ static void test_telemetry_schedule(void)
 /* Send the application's health and diagnostic frames and decode them back. */
 static void health_diag_round_trip(const app_t *app, const app_output_t *out, can_proto_telemetry_t *back)
 {
-    static const uint32_t ids[] = {CAN_PROTO_ID_HEALTH_1, CAN_PROTO_ID_HEALTH_2, CAN_PROTO_ID_HEALTH_3, CAN_PROTO_ID_DIAG,
-                                   CAN_PROTO_ID_DIAG_FREEZE};
+    static const uint32_t ids[] = {CAN_PROTO_ID_HEALTH_1, CAN_PROTO_ID_HEALTH_2, CAN_PROTO_ID_HEALTH_3,
+                                   CAN_PROTO_ID_HEALTH_4, CAN_PROTO_ID_DIAG, CAN_PROTO_ID_DIAG_FREEZE};
     can_proto_telemetry_t tm;
     size_t i;
     memset(&tm, 0, sizeof tm);
@@ -1025,6 +1092,88 @@ static void test_track_agreement_on_health_3(void)
     TV_CHECK_NEAR(back.tps_diff_sd_rad, sd, 0.5e-6 + 1e-7);
 }
 
+/* TV_HEALTH_4 carries the application's voltage-equation fit (app_t::vfit). Values put into the
+ * fit's result here (a window's R, its sigma, n Ke; an offset read or not), independent of the
+ * estimator: the next step's output holds them, and the frame decodes to them within its
+ * resolution; the offset stays 0 while no window gave one, and the fit's values stay 0 while it
+ * has no window, whatever its fields hold. */
+static void test_fit_on_health_4(void)
+{
+    static app_t app;
+    app_output_t out;
+    can_proto_telemetry_t tm;
+    can_proto_telemetry_t back;
+    app_ok(&app);
+    step_at_rest(&app, 0u, &out);
+    TV_CHECK_EQ_INT(app.vfit.valid, 0);
+    TV_CHECK_NEAR(out.fit_r_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(out.fit_r_sigma_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(out.fit_nke_V_s, 0.0, 0.0);
+    TV_CHECK_NEAR(out.fit_i_off_A, 0.0, 0.0);
+    /* a window: R 4.3918 ohm (sigma 21 mOhm), n Ke 0.6523 V s/rad; no offset read yet */
+    app.vfit.valid = 1u;
+    app.vfit.r_ohm = TV_R(4.3918);
+    app.vfit.r_sigma_ohm = TV_R(0.021);
+    app.vfit.nke_V_s = TV_R(0.6523);
+    app.vfit.nke_sigma_V_s = TV_R(0.004);
+    app.vfit.off_valid = 0u;
+    app.vfit.i_off_A = TV_R(0.031); /* not read: not sent */
+    step_at_rest(&app, 1000u, &out);
+    TV_CHECK_NEAR(out.fit_r_ohm, 4.3918, 1e-6);
+    TV_CHECK_NEAR(out.fit_r_sigma_ohm, 0.021, 1e-7);
+    TV_CHECK_NEAR(out.fit_nke_V_s, 0.6523, 1e-6);
+    TV_CHECK_NEAR(out.fit_i_off_A, 0.0, 0.0);
+    memset(&tm, 0, sizeof tm);
+    can_proto_telemetry_from_app(&app, &out, &tm);
+    round_trip(CAN_PROTO_ID_HEALTH_4, &tm, &back);
+    TV_CHECK_NEAR(back.fit_r_ohm, 4.3918, 0.0005 + 1e-6);
+    TV_CHECK_NEAR(back.fit_r_sigma_ohm, 0.021, 0.0005 + 1e-7);
+    TV_CHECK_NEAR(back.fit_nke_V_s, 0.6523, 0.00025 + 1e-6);
+    TV_CHECK_NEAR(back.fit_i_off_A, 0.0, 0.0);
+    /* the offset read, negative (a sensor reading low: -52.3 mA) */
+    app.vfit.off_valid = 1u;
+    app.vfit.i_off_A = TV_R(-0.0523);
+    app.vfit.i_off_sigma_A = TV_R(0.006);
+    step_at_rest(&app, 2000u, &out);
+    TV_CHECK_NEAR(out.fit_i_off_A, -0.0523, 1e-7);
+    memset(&tm, 0, sizeof tm);
+    can_proto_telemetry_from_app(&app, &out, &tm);
+    round_trip(CAN_PROTO_ID_HEALTH_4, &tm, &back);
+    TV_CHECK_NEAR(back.fit_r_ohm, 4.3918, 0.0005 + 1e-6);
+    TV_CHECK_NEAR(back.fit_i_off_A, -0.0523, 0.00005 + 1e-7);
+    /* and through the node's schedule: TV_HEALTH_4 at 29 ms carries the same values */
+    {
+        can_proto_node_t n;
+        hal_can_frame_t frames[CAN_PROTO_N_TX];
+        can_proto_config_t c;
+        uint64_t t;
+        int seen = 0;
+        can_proto_config_default(&c);
+        c.cmd_timeout_ms = 0u;
+        TV_CHECK_EQ_INT(can_proto_node_init(&n, &c, &app), TV_OK);
+        for (t = 3000u; t <= 40000u; t += 1000u) {
+            size_t m;
+            size_t i;
+            step_at_rest(&app, t, &out);
+            can_proto_node_update(&n, &app, &out, t);
+            m = can_proto_node_transmit(&n, &app, &out, NULL, 0, t, frames);
+            for (i = 0; i < m; ++i) {
+                if (frames[i].id == CAN_PROTO_ID_HEALTH_4) {
+                    memset(&back, 0, sizeof back);
+                    TV_CHECK_EQ_INT(can_host_decode_telemetry(&frames[i], &back), CAN_PROTO_RX_ACCEPTED);
+                    TV_CHECK_EQ_INT(t, 3000u + 29000u);
+                    ++seen;
+                }
+            }
+        }
+        TV_CHECK_EQ_INT(seen, 1);
+        TV_CHECK_NEAR(back.fit_r_ohm, 4.3918, 0.0005 + 1e-6);
+        TV_CHECK_NEAR(back.fit_r_sigma_ohm, 0.021, 0.0005 + 1e-7);
+        TV_CHECK_NEAR(back.fit_nke_V_s, 0.6523, 0.00025 + 1e-6);
+        TV_CHECK_NEAR(back.fit_i_off_A, -0.0523, 0.00005 + 1e-7);
+    }
+}
+
 /* The health frames carry the application output's adapted parameters and stops; the
  * diagnostic frames say "none" until a code is confirmed, then that code, its status, action,
  * time since the first step and the freeze frame of the snapshot that confirmed it (values put
@@ -1052,6 +1201,12 @@ static void test_health_and_diag_frames_follow_the_application(void)
     TV_CHECK(out.r_est_ohm > TV_R(1.0) && out.friction_rel > TV_R(0.5)); /* real values, not zeros */
     TV_CHECK_NEAR(out.r_20_ohm, 0.0, 0.0); /* the winding's temperature unknown */
     TV_CHECK_NEAR(back.r_20_ohm, 0.0, 0.0);
+    /* two steps: no window of the voltage equation's fit yet, TV_HEALTH_4 all zeros */
+    TV_CHECK_EQ_INT(app.vfit.valid, 0);
+    TV_CHECK_NEAR(back.fit_r_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_r_sigma_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_nke_V_s, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_i_off_A, 0.0, 0.0);
     /* at a known 70 degC: R + dR / (1 + 0.00393 (70 - 20)) */
     TV_CHECK_EQ_INT(app_set_winding_temp(&app, 1, TV_R(70.0)), TV_OK);
     step_at_rest(&app, 5002000u, &out);
@@ -1146,6 +1301,7 @@ int main(void)
 {
     TV_TEST_RUN(test_crc8_matches_sae_j1850_vectors);
     TV_TEST_RUN(test_control_frame_bytes_match_documented_layout);
+    TV_TEST_RUN(test_health_4_frame_bytes_match_documented_layout);
     TV_TEST_RUN(test_signal_table_is_consistent);
     TV_TEST_RUN(test_commands_round_trip);
     TV_TEST_RUN(test_command_encoder_refuses_out_of_range);
@@ -1162,5 +1318,6 @@ int main(void)
     TV_TEST_RUN(test_ekf_stats_window_mean);
     TV_TEST_RUN(test_health_and_diag_frames_follow_the_application);
     TV_TEST_RUN(test_track_agreement_on_health_3);
+    TV_TEST_RUN(test_fit_on_health_4);
     return tv_test_summary();
 }

@@ -1066,6 +1066,11 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     ekf_stops(&app->ekf, &out->stop_closed_rad, &out->stop_open_rad);
     out->tps_diff_rad = app->tps_diff_mean;
     out->tps_diff_sd_rad = app->tps_diff_sd;
+    /* the voltage equation's fit (TV_HEALTH_4): 0 until its first window, the offset until one read it */
+    out->fit_r_ohm = app->vfit.valid ? app->vfit.r_ohm : TV_R(0.0);
+    out->fit_r_sigma_ohm = app->vfit.valid ? app->vfit.r_sigma_ohm : TV_R(0.0);
+    out->fit_nke_V_s = app->vfit.valid ? app->vfit.nke_V_s : TV_R(0.0);
+    out->fit_i_off_A = app->vfit.off_valid ? app->vfit.i_off_A : TV_R(0.0);
     app_diag_post(app, &dsnap, out, tq_ok, w_pred); /* diagnostics after the control law: the codes' actions, jam check */
     out->faults = app->faults;
     ++app->n_steps;

@@ -199,6 +199,15 @@ typedef struct {
                                        with both tracks plausible (exponentially weighted; a running
                                        mean until that many) [rad]; 0 before the first */
     tv_real_t tps_diff_sd_rad;    /**< the standard deviation of phi1 - phi2 over the same samples [rad] */
+    tv_real_t fit_r_ohm;          /**< condition monitoring (TV_HEALTH_4): the winding resistance R of the
+                                       voltage equation's fit (app_t::vfit, volt_fit.h), its last window [ohm];
+                                       0 until its first window. Within 1 - 2 % where R + dR (r_est_ohm)
+                                       can be 7 - 12 % off: it reads the back-EMF constant at once */
+    tv_real_t fit_r_sigma_ohm;    /**< its standard deviation [ohm]; 0 until the first window */
+    tv_real_t fit_nke_V_s;        /**< the fit's back-EMF constant at the plate, n Ke [V s/rad]; 0 until the
+                                       first window */
+    tv_real_t fit_i_off_A;        /**< the current measurement's offset the fit reads (vfit_t::i_off_A, P1A04's
+                                       reading) [A]; 0 until a window gave one */
     ekf_innov_t innov;     /**< innovations, their variances, NIS */
     int ekf_status;        /**< status of this step's correction (0 ok) */
     uint32_t faults;       /**< latched APP_FAULT_* mask */

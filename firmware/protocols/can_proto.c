@@ -129,6 +129,14 @@ static const can_proto_signal_t s_sig_health_3[] = {
     {"TrackDiffSd", 32u, 16u, 0u, 1e-6f, 0.0f, 0.0f, 0.065535f, "rad"},
     {"ResistanceRef20", 48u, 14u, 0u, 0.001f, 0.0f, 0.0f, 16.383f, "ohm"},
 };
+static const can_proto_signal_t s_sig_health_4[] = {
+    SIG_CRC,
+    SIG_COUNTER,
+    {"FitResistance", 16u, 14u, 0u, 0.001f, 0.0f, 0.0f, 16.383f, "ohm"},
+    {"FitResistanceSigma", 30u, 10u, 0u, 0.001f, 0.0f, 0.0f, 1.023f, "ohm"},
+    {"FitBackEmf", 40u, 12u, 0u, 0.0005f, 0.0f, 0.0f, 2.0475f, "Vs/rad"},
+    {"FitCurrentOffset", 52u, 12u, 1u, 0.0001f, 0.0f, -0.2048f, 0.2047f, "A"},
+};
 static const can_proto_signal_t s_sig_diag[] = {
     SIG_CRC,
     SIG_COUNTER,
@@ -179,17 +187,18 @@ static const can_proto_msg_t s_msgs[CAN_PROTO_N_CMD + CAN_PROTO_N_TX + CAN_PROTO
     MSG(CAN_PROTO_ID_DIAG, "TV_DIAG", 0u, s_sig_diag),
     MSG(CAN_PROTO_ID_DIAG_FREEZE, "TV_DIAG_FREEZE", 0u, s_sig_diag_freeze),
     MSG(CAN_PROTO_ID_HEALTH_3, "TV_HEALTH_3", 0u, s_sig_health_3),
+    MSG(CAN_PROTO_ID_HEALTH_4, "TV_HEALTH_4", 0u, s_sig_health_4),
     MSG(CAN_PROTO_ID_ECU_CPU, "TV_ECU_CPU", 0u, s_sig_ecu_cpu),
 };
 
 /* First transmission of each telemetry frame after the time base [ms]: staggered, except
  * TV_TIME, which goes out in the same tick as TV_EST_STATE. With the default periods (10 ms for
  * 0..4 and TV_TIME, 100 ms for the others) no two ids share a tick: the 10 ms frames occupy 0..4
- * mod 10, the 100 ms ones 5..9, 18, 19 and 28 mod 100. */
-static const uint8_t s_tx_offset_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 0u, 8u, 9u, 18u, 19u, 28u};
+ * mod 10, the 100 ms ones 5..9, 18, 19, 28 and 29 mod 100. */
+static const uint8_t s_tx_offset_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 0u, 8u, 9u, 18u, 19u, 28u, 29u};
 /* Transmission order within a tick: CAN_PROTO_TX_* order, TV_TIME last (it pairs with the
  * TV_EST_STATE before it). */
-static const uint8_t s_tx_order[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 9u, 10u, 11u, 12u, 13u, 8u};
+static const uint8_t s_tx_order[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 9u, 10u, 11u, 12u, 13u, 14u, 8u};
 
 /* The code index fields are 4 bits (CAN_PROTO_DTC_NONE = 15 means none) and the mask 16 bits. */
 typedef char can_proto_dtc_fits_t[(unsigned)DIAG_DTC_COUNT <= CAN_PROTO_DTC_NONE ? 1 : -1];
@@ -530,6 +539,10 @@ void can_proto_telemetry_from_app(const app_t *app, const app_output_t *out, can
     tm->tps_diff_rad = (float)out->tps_diff_rad;
     tm->tps_diff_sd_rad = (float)out->tps_diff_sd_rad;
     tm->r_20_ohm = (float)out->r_20_ohm;
+    tm->fit_r_ohm = (float)out->fit_r_ohm;
+    tm->fit_r_sigma_ohm = (float)out->fit_r_sigma_ohm;
+    tm->fit_nke_V_s = (float)out->fit_nke_V_s;
+    tm->fit_i_off_A = (float)out->fit_i_off_A;
     {
         uint32_t mask = out->dtc_confirmed & 0xFFFFu;
         uint8_t n = 0u;
@@ -617,6 +630,12 @@ static int telemetry_phys(uint32_t id, const can_proto_telemetry_t *tm, float *p
         p[2] = tm->tps_diff_rad;
         p[3] = tm->tps_diff_sd_rad;
         p[4] = tm->r_20_ohm;
+        return TV_OK;
+    case CAN_PROTO_ID_HEALTH_4:
+        p[2] = tm->fit_r_ohm;
+        p[3] = tm->fit_r_sigma_ohm;
+        p[4] = tm->fit_nke_V_s;
+        p[5] = tm->fit_i_off_A;
         return TV_OK;
     case CAN_PROTO_ID_DIAG:
         p[2] = (float)tm->dtc_count;

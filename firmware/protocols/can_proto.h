@@ -27,6 +27,7 @@
  *   0x18B  TV_DIAG              TV->bench  100 ms (diagnostic codes: count, last confirmed, action)
  *   0x18C  TV_DIAG_FREEZE       TV->bench  100 ms (freeze frame of the last confirmed code)
  *   0x18D  TV_HEALTH_3          TV->bench  100 ms (condition monitoring: position-track agreement)
+ *   0x18E  TV_HEALTH_4          TV->bench  100 ms (condition monitoring: the voltage equation's fit)
  *
  * Every frame starts with the same protection header (AUTOSAR E2E profile 1 layout):
  *   bits 0..7   CRC      CRC-8 SAE J1850: polynomial 0x1D, initial value 0xFF, final XOR 0xFF,
@@ -129,6 +130,20 @@
  *                                                              winding's temperature (app_output_t::r_20_ohm):
  *                                                              the trend of a winding's wear whatever
  *                                                              its temperature; 0 while it is unknown
+ *   TV_HEALTH_4 0x18E (condition monitoring, the voltage equation's fit of the winding,
+ *   firmware/estimator/volt_fit.h: its last window; bits 12..15 reserved; a value beyond its
+ *   field saturates)
+ *     FitResistance     16|14    0.001 ohm        [0, 16.383]  the fit's winding resistance R
+ *                                                              (app_output_t::fit_r_ohm): within 1 - 2 %
+ *                                                              where ResistanceEst (R + dR) can be 7 - 12 %
+ *                                                              off; 0 until the fit's first window
+ *     FitResistanceSigma 30|10   0.001 ohm        [0, 1.023]   its standard deviation
+ *     FitBackEmf        40|12    0.0005 V s/rad   [0, 2.0475]  the fit's back-EMF constant at the plate,
+ *                                                              n Ke (app_output_t::fit_nke_V_s); 0 until
+ *                                                              the first window
+ *     FitCurrentOffset  52|12s   0.0001 A         [-0.2048, 0.2047]  the current sensor's offset the fit
+ *                                                              reads (app_output_t::fit_i_off_A, P1A04's
+ *                                                              reading); 0 until a window gave one
  *   TV_DIAG 0x18B (diagnostic codes, firmware/diag/diag.h; code index = diag_dtc_t, 15 = none)
  *     DtcCount          12|4     1                [0, 15]  codes confirmed now
  *     LastDtc           16|4     1                [0, 15]  the code confirmed most recently since start (15: none)
@@ -215,6 +230,7 @@ extern "C" {
 #define CAN_PROTO_ID_DIAG 0x18Bu
 #define CAN_PROTO_ID_DIAG_FREEZE 0x18Cu
 #define CAN_PROTO_ID_HEALTH_3 0x18Du
+#define CAN_PROTO_ID_HEALTH_4 0x18Eu
 /** Platform frame of the Cortex-M4F ECU: CPU load of the control step (DWT cycles). Listed in
  *  the frame table and the DBC, but not scheduled by the node: the ECU sends it itself every
  *  CAN_PROTO_ECU_CPU_PERIOD_MS with can_proto_encode_ecu_cpu(). */
@@ -231,7 +247,7 @@ extern "C" {
 
 /** Number of command frames and of telemetry frames. */
 #define CAN_PROTO_N_CMD 2u
-#define CAN_PROTO_N_TX 14u
+#define CAN_PROTO_N_TX 15u
 /** Platform frames in the table after the telemetry (TV_ECU_CPU). */
 #define CAN_PROTO_N_PLATFORM 1u
 /** Most signals in one frame, CRC and counter included. */
@@ -258,7 +274,8 @@ enum {
     CAN_PROTO_TX_HEALTH_2 = 10,
     CAN_PROTO_TX_DIAG = 11,
     CAN_PROTO_TX_DIAG_FREEZE = 12,
-    CAN_PROTO_TX_HEALTH_3 = 13
+    CAN_PROTO_TX_HEALTH_3 = 13,
+    CAN_PROTO_TX_HEALTH_4 = 14
 };
 
 /** One signal of a frame, as in the DBC: physical = raw * scale + offset. */
@@ -357,6 +374,12 @@ typedef struct {
     float tps_diff_sd_rad;    /**< its standard deviation [rad] */
     float r_20_ohm;           /**< TV_HEALTH_3: winding resistance R + dR referred to 20 degC [ohm];
                                    0 while the winding's temperature is unknown */
+    float fit_r_ohm;          /**< TV_HEALTH_4: the voltage equation fit's winding resistance R [ohm];
+                                   0 until its first window */
+    float fit_r_sigma_ohm;    /**< its standard deviation [ohm] */
+    float fit_nke_V_s;        /**< the fit's back-EMF constant at the plate, n Ke [V s/rad]; 0 until
+                                   its first window */
+    float fit_i_off_A;        /**< the current sensor's offset the fit reads [A]; 0 until it read one */
     /* diagnostic codes (TV_DIAG, TV_DIAG_FREEZE) */
     uint8_t dtc_count;        /**< codes confirmed now, 0..15 */
     uint16_t dtc_mask;        /**< bit k: code k confirmed now */
@@ -479,9 +502,10 @@ uint8_t can_proto_frame_counter(const hal_can_frame_t *frame);
 /**
  * Fill the step-related fields of *tm from the application and its last output: estimate,
  * sigma, innovations, NIS, duty, measurements, mode, faults, flags, ekf_rejected, the health
- * indicators (adapted parameters, stops) and the diagnostic codes (confirmed codes and action of
- * the output; the last confirmed code and its freeze frame from app->diag). Loop, rx and window
- * statistics and the link flags are left as they are (the node fills them).
+ * indicators (adapted parameters, stops, track agreement, the voltage equation's fit) and the
+ * diagnostic codes (confirmed codes and action of the output; the last confirmed code and its
+ * freeze frame from app->diag). Loop, rx and window statistics and the link flags are left as
+ * they are (the node fills them).
  */
 void can_proto_telemetry_from_app(const app_t *app, const app_output_t *out, can_proto_telemetry_t *tm);
 
@@ -503,7 +527,7 @@ int can_proto_encode_ecu_cpu(uint32_t cycles_max, uint32_t cycles_mean, uint32_t
 /* ---- the node ----------------------------------------------------------------------------- */
 
 /** Defaults: timeout 100 ms, max counter delta 2, periods 10 ms (0x180..0x184, 0x188), 100 ms (0x185..0x187,
- *  0x189..0x18C). */
+ *  0x189..0x18E). */
 void can_proto_config_default(can_proto_config_t *cfg);
 
 /**
@@ -535,8 +559,8 @@ void can_proto_node_update(can_proto_node_t *node, app_t *app, const app_output_
  * The telemetry frames due at t_us, encoded into frames[0..n-1], in CAN_PROTO_TX_* order except
  * TV_TIME, which comes last (after the other frames of its tick). The
  * first call sets the time base; frame k (k <= CAN_PROTO_TX_EKF_STATS) is first sent k ms later
- * (staggered), TV_HEALTH_1, TV_HEALTH_2, TV_DIAG, TV_DIAG_FREEZE, TV_HEALTH_3 at 8, 9, 18, 19, 28 ms (so with the
- * default periods no two ids share a tick), except TV_TIME,
+ * (staggered), TV_HEALTH_1, TV_HEALTH_2, TV_DIAG, TV_DIAG_FREEZE, TV_HEALTH_3, TV_HEALTH_4 at 8, 9, 18, 19,
+ * 28, 29 ms (so with the default periods no two ids share a tick), except TV_TIME,
  * which is scheduled like TV_EST_STATE (offset 0, and its own period_ms: keep them equal to
  * pair them); then every period_ms. A late call sends each due frame once (no catching up).
  * @param loop       platform loop statistics (may be NULL: zeros)

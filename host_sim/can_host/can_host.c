@@ -128,6 +128,12 @@ int can_host_decode_telemetry(const hal_can_frame_t *frame, can_proto_telemetry_
         tm->tps_diff_sd_rad = p[3];
         tm->r_20_ohm = p[4];
         break;
+    case CAN_PROTO_ID_HEALTH_4:
+        tm->fit_r_ohm = p[2];
+        tm->fit_r_sigma_ohm = p[3];
+        tm->fit_nke_V_s = p[4];
+        tm->fit_i_off_A = p[5];
+        break;
     case CAN_PROTO_ID_DIAG:
         tm->dtc_count = (uint8_t)u32_of(p[2]);
         tm->last_dtc = (uint8_t)u32_of(p[3]);
