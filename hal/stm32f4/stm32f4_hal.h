@@ -15,7 +15,7 @@
  *    with TIM1 (same clock source) so the two stay phase-locked: the tick always comes
  *    ADC_READY_US after a PWM peak, when that peak's conversions are complete.
  *  - TIM5, 32-bit free-running 1 MHz counter: hal_time_us(), extended to 64 bits.
- *  - bxCAN1 with software queues (16 frames each way) served by the CAN1_TX / CAN1_RX0
+ *  - bxCAN1 with software queues (24 frames each way) served by the CAN1_TX / CAN1_RX0
  *    interrupts; accepts every identifier into FIFO 0, automatic bus-off recovery.
  *  - IWDG (LSI 32 kHz nominal / 32): reset when the main loop stops seeing control ticks.
  *  - DWT CYCCNT: core cycles, for execution-time statistics.
@@ -51,8 +51,11 @@ extern "C" {
 #define STM32F4_CONTROL_PERIOD_US 1000u
 /** Delay of the control tick after a PWM peak [us]: the 4 conversions take about 5 us. */
 #define STM32F4_ADC_READY_US 10u
-/** Software CAN queue lengths [frames]. */
-#define STM32F4_CAN_QUEUE_LEN 16u
+/** Software CAN queue lengths [frames]. The largest burst is the tick after a stall, when every
+ * telemetry frame is due at once: can_proto's 15 (CAN_PROTO_N_TX, TV_HEALTH_4 the 15th) and
+ * TV_ECU_CPU, 16 frames, of which the 3 transmit mailboxes take the first; 24 leaves room for 8
+ * more frames without a drop (a drop is counted: stm32f4_status_t::can_tx_dropped). */
+#define STM32F4_CAN_QUEUE_LEN 24u
 
 /** Platform configuration. */
 typedef struct {
