@@ -136,8 +136,12 @@
  *     passed check. A steady low track confirms at the code's count (ms); sporadic dropouts add
  *     up as long as most windows hold one (the 1 kHz leaky counter alone would leak a 10 %
  *     dropout rate away: 9 passes per failure).
- *   CURRENT SENSOR (P1A04), an offset of the current measurement, by two checks that report to
+ *   CURRENT SENSOR (P1A04), an offset of the current measurement, by three checks that report to
  *     the one code (each check is one window):
+ *     FIT OFFSET (diag_isens_fit_check()): each window of the voltage equation's fit with an
+ *       intercept (volt_fit.h: the offset b it reads, by instrumental variables) at or above
+ *       isens_fit_max_A fails, below half of it passes; judged while its variance inflation is at
+ *       most isens_fit_vif_max, on the model in service, not while P2100 or P1A03 is active.
  *     ZERO CHECK: while the bridge is off (since at least DIAG_ISENS_SETTLE periods: the winding
  *       current has decayed through the body diodes well within one), the measured current must
  *       read 0; the mean of DIAG_ISENS_ZERO_N such samples above isens_zero_max_A in magnitude
