@@ -655,6 +655,13 @@ static void app_diag_motor(app_t *app, const app_input_t *in, tv_real_t current,
 
 /* After the control law: the action of the confirmed codes on the outputs, then the jam check
  * on what is really applied (a plate the bridge no longer drives is not judged). */
+/* 1 while the model is the one in service: not while the stops are learned nor during the
+ * identification sequence (both drive the plate into its stops on purpose). */
+static int model_in_service(const app_control_t *c)
+{
+    return c->mode != APP_MODE_STOP_LEARN && c->mode != APP_MODE_IDENT;
+}
+
 static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t *out, int tq_ok, tv_real_t w_pred)
 {
     const app_control_t *c = &app->cfg.control;
@@ -761,8 +768,7 @@ static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t 
      * error of a stop model never learned and found wrong (measured: P2119 confirmed in 118 of
      * 1,440 healthy runs without stop learning): held while st_model_in_doubt() */
     diag_param_check(&app->ddet, &app->diag,
-                     c->mode != APP_MODE_STOP_LEARN && c->mode != APP_MODE_IDENT && out->ekf_status == TV_OK &&
-                         !st_model_in_doubt(&app->st),
+                     model_in_service(c) && out->ekf_status == TV_OK && !st_model_in_doubt(&app->st),
                      out->x[TVM_W],
                      out->friction_rel, out->friction_rel_sigma, out->preload_rel, out->preload_rel_sigma, snap);
     /* the current sensor: zero at rest, no offset in the current innovation under drive */
@@ -938,8 +944,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
      * plate hard into its stops to measure the very parameters the signature would judge
      * (measured: a healthy all_varied unit 1003 confirmed P1A02 in it, and its limited
      * authority then kept the plate from the open stop that identify needs) */
-    tq_ok = out->ekf_status == TV_OK && sample_ok && angle_ok && periods == 1u &&
-            app->cfg.control.mode != APP_MODE_STOP_LEARN && app->cfg.control.mode != APP_MODE_IDENT;
+    tq_ok = out->ekf_status == TV_OK && sample_ok && angle_ok && periods == 1u && model_in_service(&app->cfg.control);
     if (out->ekf_status == TV_OK && sample_ok && periods > 0u) {
         out->ekf_status = ekf_correct_channels(&app->ekf, &meas, use_mask, &out->innov);
     }
@@ -973,7 +978,7 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
                 diag_backemf_check(&app->ddet, &app->diag, app->vfit.r_ohm / (app->ekf.model.p.R_ohm * app->r_temp_factor),
                                    app->vfit.nke_V_s / k_nom, app->vfit.nke_sigma_V_s / k_nom);
             }
-            if ((took & VFIT_TOOK_OFFSET) && app->cfg.control.mode != APP_MODE_STOP_LEARN && app->cfg.control.mode != APP_MODE_IDENT) {
+            if ((took & VFIT_TOOK_OFFSET) && model_in_service(&app->cfg.control)) {
                 /* the model in service only (diag_isens_fit_check()) */
                 diag_isens_fit_check(&app->diag, &app->ddet, app->vfit.i_off_A, app->vfit.i_off_vif, &dsnap);
             }

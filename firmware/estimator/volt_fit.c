@@ -41,6 +41,14 @@ int vfit_init(vfit_t *f, const vfit_config_t *cfg, tv_real_t L_H, tv_real_t Ts_s
     return TV_OK;
 }
 
+/* 1 when two regressors whose (centred or raw) sums of squares are a, c and cross sum b are apart
+ * enough to fit both: neither constant, not (nearly) collinear (rho^2 = b^2 / (a c) at most
+ * rho2_max), a positive determinant det = a c - b^2 of the normal equations. */
+static int vfit_apart(const vfit_t *f, tv_real_t a, tv_real_t b, tv_real_t c, tv_real_t det)
+{
+    return a > TV_R(0.0) && c > TV_R(0.0) && b * b <= f->cfg.rho2_max * a * c && det > TV_R(0.0);
+}
+
 /* The window's 2 x 2 solve over the sums s of n driven periods: R and n Ke from the normal
  * equations, their standard deviations from the residual variance scaled by the correlation
  * length. 1 when taken. */
@@ -50,8 +58,8 @@ static int vfit_solve(vfit_t *f, const tv_real_t *s, uint32_t n)
     tv_real_t r;
     tv_real_t k;
     tv_real_t var;
-    /* collinear current and velocity (rho^2 = s_iw^2 / (s_ii s_ww) near 1): R and n Ke not apart */
-    if (!(s[0] > TV_R(0.0)) || !(s[2] > TV_R(0.0)) || !(s[1] * s[1] <= f->cfg.rho2_max * s[0] * s[2]) || !(det > TV_R(0.0))) {
+    /* collinear current and velocity: R and n Ke not apart */
+    if (!vfit_apart(f, s[0], s[1], s[2], det)) {
         return 0;
     }
     r = (s[2] * s[3] - s[1] * s[4]) / det;
@@ -103,8 +111,9 @@ static int vfit_offset(vfit_t *f, const tv_real_t *s, uint32_t n)
     tv_real_t q1;
     tv_real_t b;
     tv_real_t vif;
-    /* the instruments (nearly) collinear, or either constant: not apart */
-    if (!(cii > TV_R(0.0)) || !(cww > TV_R(0.0)) || !(ciw * ciw <= f->cfg.rho2_max * cii * cww) || !(det > TV_R(0.0))) {
+    /* the instruments (nearly) collinear, or either constant (A's determinant, not the
+     * instruments' own, must be positive) */
+    if (!vfit_apart(f, cii, ciw, cww, det)) {
         return 0;
     }
     r = (cwv * ciy - civ * cwy) / det;
@@ -141,6 +150,7 @@ int vfit_step(vfit_t *f, tv_real_t u_V, tv_real_t i0_A, tv_real_t i1_A, tv_real_
     tv_real_t win[sizeof f->s / sizeof f->s[0]];
     unsigned b;
     unsigned c;
+    uint32_t n;
     if (f == NULL || !(u_V >= f->cfg.u_min_V || u_V <= -f->cfg.u_min_V)) {
         return 0;
     }
@@ -184,5 +194,6 @@ int vfit_step(vfit_t *f, tv_real_t u_V, tv_real_t i0_A, tv_real_t i1_A, tv_real_
             win[c] += f->ring[b][c];
         }
     }
-    return vfit_offset(f, win, (uint32_t)f->cfg.blocks * f->cfg.block) | vfit_solve(f, win, (uint32_t)f->cfg.blocks * f->cfg.block);
+    n = (uint32_t)f->cfg.blocks * f->cfg.block;
+    return vfit_offset(f, win, n) | vfit_solve(f, win, n);
 }
