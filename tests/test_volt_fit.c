@@ -11,6 +11,8 @@
 #include <stdint.h>
 #include <string.h>
 
+#include <gsl/gsl_linalg.h>
+
 #include "tv_status.h"
 #include "tv_test.h"
 #include "volt_fit.h"
@@ -189,44 +191,20 @@ static void test_sigma_formula(void)
     TV_CHECK(f.r_sigma_ohm > (tv_real_t)0.0);
 }
 
-/* 3 x 3 solve by Gaussian elimination with partial pivoting (a and b are overwritten): x = a^-1 b. */
+/* x = a^-1 b for a 3 x 3 system, by GSL's LU decomposition with partial pivoting (a is
+ * overwritten). */
 static void solve3(double a[3][3], double b[3], double x[3])
 {
-    int c;
-    int r;
-    for (c = 0; c < 3; ++c) {
-        int p = c;
-        for (r = c + 1; r < 3; ++r) {
-            if (fabs(a[r][c]) > fabs(a[p][c])) {
-                p = r;
-            }
-        }
-        for (r = 0; r < 3; ++r) {
-            const double t = a[c][r];
-            a[c][r] = a[p][r];
-            a[p][r] = t;
-        }
-        {
-            const double t = b[c];
-            b[c] = b[p];
-            b[p] = t;
-        }
-        for (r = c + 1; r < 3; ++r) {
-            const double m = a[r][c] / a[c][c];
-            int j;
-            for (j = c; j < 3; ++j) {
-                a[r][j] -= m * a[c][j];
-            }
-            b[r] -= m * b[c];
-        }
-    }
-    for (r = 2; r >= 0; --r) {
-        double t = b[r];
-        for (c = r + 1; c < 3; ++c) {
-            t -= a[r][c] * x[c];
-        }
-        x[r] = t / a[r][r];
-    }
+    gsl_matrix_view m = gsl_matrix_view_array(&a[0][0], 3, 3);
+    gsl_vector_view bv = gsl_vector_view_array(b, 3);
+    gsl_vector_view xv = gsl_vector_view_array(x, 3);
+    size_t pdata[3];
+    gsl_permutation perm;
+    int sign;
+    perm.size = 3;
+    perm.data = pdata;
+    TV_CHECK(gsl_linalg_LU_decomp(&m.matrix, &perm, &sign) == 0);
+    TV_CHECK(gsl_linalg_LU_solve(&m.matrix, &perm, &bv.vector, &xv.vector) == 0);
 }
 
 /* The samples of test_offset_iv, kept to form the residuals afterwards. */
