@@ -454,9 +454,20 @@ static void test_winding_temperature(void)
     TV_CHECK_NEAR(r.r_20_ohm, 4.3, 0.02 * 4.3);
     TV_CHECK_NEAR(r.r_true_20_ohm, 4.3, 1e-9);
     TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P2101));
-    /* the class's bound: +25 % passes with the temperature known too */
-    run_warm(&ac, 20.0, 20.0, "winding_resistance_high:1.25@1.0", &r);
+    /* the class's model: +30 % stays below the estimator's bound (1.35 R) but the voltage
+     * equation's fit reads it above 1.25 R with the temperature known (diag_fit_resistance_check());
+     * without the temperature nothing */
+    run_warm(&ac, 20.0, 20.0, "winding_resistance_high:1.3@1.0", &r);
+    TV_CHECK_LE(r.r_est_ohm / 4.3, 1.35);
+    TV_CHECK_NEAR(r.r_est_ohm / 4.3, 1.3, 0.03);
+    TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+    printf("  class's model, 20 degC told: resistance +30 %% confirmed P2101 %.0f ms after the onset (the fit's R)\n",
+           (r.dtc_confirm_t_s[DIAG_DTC_P2101] - 1.0) * 1e3);
+    TV_CHECK_LE(r.dtc_confirm_t_s[DIAG_DTC_P2101] - 1.0, 2.0);
+    run_warm(&ac, 20.0, (double)NAN, "winding_resistance_high:1.3@1.0", &r);
     TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+    run_warm(&ac, 20.0, 20.0, NULL, &r);
+    TV_CHECK(!sim_dtc_ever(&r, DIAG_DTC_P2101));
     diag_detect_config_identified(&ac.diag);
     run_warm(&ac, 20.0, 20.0, "winding_resistance_high:1.25@1.0", &r);
     TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
@@ -2814,6 +2825,83 @@ static void test_backemf_short(void)
     }
 }
 
+/* The fit's resistance check (diag_fit_resistance_check()) feeding the resistance check: three
+ * windows in a row above 1.25 of the model's R make diag_resistance_check() fail P2101 at every
+ * driven step, also below its current threshold and with the estimator's R + dR inside its bound
+ * (P2101 confirms at the 200th: diag.c's count), the freeze frame holding the fit's ratio; two
+ * windows then one below, a window not judged (the temperature unknown, the model not in service)
+ * or the current sensor's code pending clear the count; with it cleared, R + dR passes again. */
+static int fit_r_case(const tv_real_t *win, int n_win, int temp_known, int p1a04, tv_real_t current_A, diag_t *d,
+                      diag_detect_t *dd)
+{
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    int k;
+    diag_detect_config_default(&cfg);
+    TV_CHECK_EQ_INT(diag_detect_init(dd, &cfg), TV_OK);
+    diag_init(d);
+    memset(&snap, 0, sizeof snap);
+    if (p1a04) {
+        (void)diag_report(d, DIAG_DTC_P1A04, DIAG_FAIL, &snap, TV_R(0.05));
+    }
+    for (k = 0; k < n_win; ++k) {
+        diag_fit_resistance_check(dd, d, win[k] > TV_R(0.0) && temp_known, win[k]);
+    }
+    for (k = 1; k <= 300; ++k) {
+        snap.t_us = (uint64_t)k * 1000u;
+        /* R + dR at 1.1 R: inside the class's 1.35 */
+        diag_resistance_check(dd, d, 1, current_A, TV_R(1.1) * TV_R(4.3), TV_R(0.01), TV_R(4.3), temp_known, &snap);
+        if (diag_confirmed(d, DIAG_DTC_P2101)) {
+            return k;
+        }
+    }
+    return 0;
+}
+
+static void test_fit_resistance(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    static const tv_real_t three[3] = {TV_R(1.3), TV_R(1.27), TV_R(1.26)};
+    static const tv_real_t two_then_low[3] = {TV_R(1.3), TV_R(1.27), TV_R(1.24)};
+    static const tv_real_t low_between[4] = {TV_R(1.3), TV_R(1.3), TV_R(1.2), TV_R(1.3)};
+    static const tv_real_t not_judged[4] = {TV_R(1.3), TV_R(1.3), TV_R(0.0), TV_R(1.3)}; /* 0: active = 0 */
+    static const tv_real_t four[4] = {TV_R(1.3), TV_R(1.3), TV_R(1.3), TV_R(1.3)};
+    static const tv_real_t at_bound[3] = {TV_R(1.25), TV_R(1.25), TV_R(1.25)};
+    diag_detect_config_t cfg;
+    diag_detect_config_default(&cfg);
+    TV_CHECK_NEAR(cfg.r_fit_high_frac, 1.25, 1e-6);
+    TV_CHECK_EQ_INT(DIAG_R_FIT_HIGH_WINDOWS, 3);
+    TV_CHECK_EQ_INT(fit_r_case(three, 3, 1, 0, TV_R(1.0), &d, &dd), 200);
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P2101].freeze.value, 1.26, 1e-6); /* the last window's ratio */
+    TV_CHECK_EQ_INT(fit_r_case(three, 3, 1, 0, TV_R(0.1), &d, &dd), 200); /* below r_excite_A too */
+    TV_CHECK_EQ_INT(fit_r_case(four, 4, 1, 0, TV_R(1.0), &d, &dd), 200);
+    TV_CHECK_EQ_INT(fit_r_case(two_then_low, 3, 1, 0, TV_R(1.0), &d, &dd), 0);
+    TV_CHECK(dd.r_fit_high_n == 0u && d.code[DIAG_DTC_P2101].counter == 0u); /* R + dR passes */
+    TV_CHECK_EQ_INT(fit_r_case(low_between, 4, 1, 0, TV_R(1.0), &d, &dd), 0);
+    TV_CHECK_EQ_INT(fit_r_case(not_judged, 4, 1, 0, TV_R(1.0), &d, &dd), 0);
+    TV_CHECK_EQ_INT(fit_r_case(at_bound, 3, 1, 0, TV_R(1.0), &d, &dd), 0); /* above, not at */
+    TV_CHECK_EQ_INT(fit_r_case(three, 3, 0, 0, TV_R(1.0), &d, &dd), 0);    /* temperature unknown */
+    TV_CHECK_EQ_INT(fit_r_case(three, 3, 1, 1, TV_R(1.0), &d, &dd), 0);    /* P1A04 pending */
+    TV_CHECK(dd.r_fit_high_n == 0u);
+    /* a count reached, then the temperature lost: the resistance check does not use it */
+    TV_CHECK_EQ_INT(fit_r_case(three, 3, 1, 0, TV_R(1.0), &d, &dd), 200);
+    {
+        diag_snapshot_t snap;
+        int k;
+        memset(&snap, 0, sizeof snap);
+        diag_init(&d);
+        for (k = 0; k < 300; ++k) {
+            diag_resistance_check(&dd, &d, 1, TV_R(1.0), TV_R(1.1) * TV_R(4.3), TV_R(0.01), TV_R(4.3), 0, &snap);
+        }
+        TV_CHECK(!diag_confirmed(&d, DIAG_DTC_P2101) && d.code[DIAG_DTC_P2101].counter == 0u);
+    }
+    cfg.r_fit_high_frac = TV_R(1.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    cfg.r_fit_high_frac = (tv_real_t)NAN;
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_NONFINITE);
+}
+
 /* The offset check of the voltage equation's fit (diag_isens_fit_check()): windows reading
  * |b| >= 35 mA fail P1A04 (6 confirm), below 17.5 mA pass (the leaky counter's decrement), in
  * between nothing; a window whose variance inflation is above 50 is not judged, nor any while the
@@ -2872,6 +2960,7 @@ int main(void)
     TV_TEST_RUN(test_track_offset_named_within_50_ms);
     TV_TEST_RUN(test_backemf_short);
     TV_TEST_RUN(test_isens_fit_offset);
+    TV_TEST_RUN(test_fit_resistance);
     TV_TEST_RUN(test_jam_confirmed_within_100_ms);
     TV_TEST_RUN(test_sticky_plate_jam_within_100_ms_of_stall);
     TV_TEST_RUN(test_open_winding_confirmed_within_10_ms);
