@@ -386,7 +386,15 @@ static void test_identified_stop_learning_and_bounds_applied(void)
     TV_CHECK_NEAR(app.stop_learn.k_min, 1510.0, 1e-3);
     TV_CHECK_NEAR(app.stop_learn.k_max, 1540.0, 1e-3);
     TV_CHECK(app.diag.identified == 1u && app.diag.friction_high_rel == (tv_real_t)1.15);
+    TV_CHECK(app.diag.r_fit_high_frac == (tv_real_t)1.25); /* not given: the default */
     TV_CHECK_EQ_INT(app_init(&a, &app), TV_OK);
+    /* the fit's P2101 bound, given with the identified bounds: both in force */
+    TV_CHECK_EQ_INT(parse_with("diag.identified = 1\ndiag.r_fit_high_frac = 1.32\n", &cfg, err, sizeof err), TV_OK);
+    app_config_default(&app);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK(app.diag.identified == 1u && app.diag.r_fit_high_frac == (tv_real_t)1.32);
+    TV_CHECK_EQ_INT(parse_with("diag.r_fit_high_frac = 0.9\n", &cfg, err, sizeof err), TV_ERR_RANGE);
+    TV_CHECK(strstr(err, "diag.r_fit_high_frac") != NULL);
     /* crossed ranges given in the file are named; one against a default fails app_init() */
     TV_CHECK_EQ_INT(parse_with("stop_learn.e_min = 1.6\nstop_learn.e_max = 1.2\n", &cfg, err, sizeof err), TV_ERR_CONFIG);
     TV_CHECK(strstr(err, "stop_learn.e_min (1.6) is above stop_learn.e_max (1.2)") != NULL);

@@ -180,6 +180,24 @@ static void test_diag_identified_selects_the_unit_model_bounds(void)
     TV_CHECK_EQ_INT(parse("diag.identified = 0.5\n"), TV_ERR_FORMAT);
 }
 
+/* diag.r_fit_high_frac: the fit's P2101 bound (default 1.25, diag_detect.h), set and written back
+ * whatever diag.identified says (the identified bounds leave it alone); 1 and above 3 refused. */
+static void test_diag_fit_resistance_bound(void)
+{
+    app_config_t c;
+    char buf[16384];
+    app_config_default(&c);
+    TV_CHECK(c.diag.r_fit_high_frac == (tv_real_t)1.25);
+    TV_CHECK_EQ_INT(parse("diag.identified = 1\ndiag.r_fit_high_frac = 1.375\n"), TV_OK);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    TV_CHECK(c.diag.identified == 1u && c.diag.r_fit_high_frac == (tv_real_t)1.375);
+    TV_CHECK(write_config(&c, buf, sizeof buf) == 0);
+    TV_CHECK(strstr(buf, "\ndiag.r_fit_high_frac = 1.375 ") != NULL);
+    TV_CHECK_EQ_INT(parse("diag.r_fit_high_frac = 1\n"), TV_ERR_RANGE);
+    TV_CHECK(has("p.txt:1: diag.r_fit_high_frac = 1 is out of range, allowed (1, 3]"));
+    TV_CHECK_EQ_INT(parse("diag.r_fit_high_frac = 3.5\n"), TV_ERR_RANGE);
+}
+
 /* The start-up stop learning's contact-law keys (what identify writes to keep an identified law):
  * applied to app_config_t::stop_learn, written back, out-of-range values and the cross-field
  * rules (e_min <= e_max, k_min < k_max) refused naming both keys. */
@@ -310,6 +328,7 @@ int main(void)
     TV_TEST_RUN(test_values_comments_and_q_recomputation);
     TV_TEST_RUN(test_densities_survive_a_later_model_file);
     TV_TEST_RUN(test_diag_identified_selects_the_unit_model_bounds);
+    TV_TEST_RUN(test_diag_fit_resistance_bound);
     TV_TEST_RUN(test_stop_learn_keys);
     TV_TEST_RUN(test_unknown_key_is_an_error_naming_file_line_and_key);
     TV_TEST_RUN(test_missing_value_is_an_error);

@@ -117,6 +117,7 @@ static const key_desc_t s_keys[] = {
     NUM("stop_learn.k_min_Nm_rad", K_DOUBLE, 1e-9, 1e7, sl_k_min_Nm_rad, 0),
     NUM("stop_learn.k_max_Nm_rad", K_DOUBLE, 1e-9, 1e7, sl_k_max_Nm_rad, 0),
     NUM("diag.identified", K_BOOL, 0, 1, diag_identified, 0),
+    NUM("diag.r_fit_high_frac", K_DOUBLE, 1, 3, diag_r_fit_high_frac, 0),
 };
 
 /* Where an optional real key goes: its double in lx_config_t (NaN = not given) and its tv_real_t
@@ -238,6 +239,7 @@ void lx_config_default(lx_config_t *cfg)
     /* not given: the application's defaults */
     real_keys_unset(cfg, s_model_keys, N_MODEL_KEYS);
     real_keys_unset(cfg, s_sl_keys, N_SL_KEYS);
+    cfg->diag_r_fit_high_frac = (double)NAN;
 }
 
 static char *trim(char *s)
@@ -671,6 +673,9 @@ void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
         (void)real_keys_copy(cfg, s_sl_keys, N_SL_KEYS, &app->stop_learn);
         if (cfg->diag_identified != 0) {
             diag_detect_config_identified(&app->diag);
+        }
+        if (!isnan(cfg->diag_r_fit_high_frac)) {
+            app->diag.r_fit_high_frac = (tv_real_t)cfg->diag_r_fit_high_frac;
         }
     }
 }

@@ -88,6 +88,7 @@ typedef struct {
     double sl_k_min_Nm_rad;       /**< stop_learn.k_min_Nm_rad */
     double sl_k_max_Nm_rad;       /**< stop_learn.k_max_Nm_rad */
     int32_t diag_identified;      /**< diag.identified: 1 = the identified unit's bounds; default 0 */
+    double diag_r_fit_high_frac;  /**< diag.r_fit_high_frac (NaN = not given: the default bound) */
 } lx_config_t;
 
 /** Fill *cfg with every default (required keys empty / zero). */

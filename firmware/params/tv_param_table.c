@@ -72,6 +72,7 @@ static const tvp_desc_t s_table[TVP_COUNT] = {
     {"ekf.stuck_q_min", "-", 0.0, 1.0, TVP_LO_OPEN, "stuck-plate noise: factor on the plate's process noise where static friction holds the plate with a reserve of at least stuck_hold_frac (1 = off)"},
     {"ekf.stuck_hold_frac", "-", 0.0, 1.0, TVP_LO_OPEN, "stuck-plate noise: friction reserve (1 - net torque / breakaway) from which stuck_q_min applies"},
     {"diag.identified", "-", 0.0, 1.0, TVP_INTEGER, "1: the model is this unit's own (identify writes it): the diagnostic bounds judge friction and preload relative to it (diag_detect_config_identified())"},
+    {"diag.r_fit_high_frac", "-", 1.0, 3.0, TVP_LO_OPEN, "P2101 from the voltage equation's fit: its R above this times the model's (at the winding's known temperature) in 3 windows in a row fails P2101; the margin above the units' spread must hold the temperature reading's error (default 1.25)"},
     {"calib.current_offset_counts", "counts", 0.0, 65535.0, 0u, "current channel at 0 A"},
     {"calib.current_A_per_count", "A/count", -1.0, 1.0, TVP_NONZERO, "current sense gain"},
     {"calib.tps1_counts_at_zero", "counts", -1000000.0, 1000000.0, 0u, "track 1 at limp-home"},
