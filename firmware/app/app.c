@@ -972,16 +972,17 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
             /* (the differentiated angle is over this period: the last sample's angle was plausible) */
             const int took = vfit_step(&app->vfit, app->u_applied_V, app->vf_i_prev, current, app->vf_w_prev, w1,
                                        meas.z[EKF_CH_VELOCITY]);
+            /* (judged only on a step that took a window) */
+            const int in_service = took != 0 && model_in_service(&app->cfg.control);
             if (took & VFIT_TOOK_FIT) {
                 /* a window taken: the back-EMF check against the model's constants, and its R
                  * against the model's while the winding's temperature is known */
                 const tv_real_t k_nom = app->ekf.model.nKe_V_s;
                 const tv_real_t r_ratio = app->vfit.r_ohm / (app->ekf.model.p.R_ohm * app->r_temp_factor);
                 diag_backemf_check(&app->ddet, &app->diag, r_ratio, app->vfit.nke_V_s / k_nom, app->vfit.nke_sigma_V_s / k_nom);
-                diag_fit_resistance_check(&app->ddet, &app->diag,
-                                          model_in_service(&app->cfg.control) && app->winding_temp_known, r_ratio);
+                diag_fit_resistance_check(&app->ddet, &app->diag, in_service && app->winding_temp_known, r_ratio);
             }
-            if ((took & VFIT_TOOK_OFFSET) && model_in_service(&app->cfg.control)) {
+            if ((took & VFIT_TOOK_OFFSET) && in_service) {
                 /* the model in service only (diag_isens_fit_check()) */
                 diag_isens_fit_check(&app->diag, &app->ddet, app->vfit.i_off_A, app->vfit.i_off_vif, &dsnap);
             }

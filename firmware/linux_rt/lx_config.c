@@ -159,6 +159,13 @@ static const real_key_t s_sl_keys[] = {
 };
 #define N_SL_KEYS (sizeof s_sl_keys / sizeof s_sl_keys[0])
 
+/* The diagnostic bounds given as numbers: where each goes in lx_config_t and in diag_detect_config_t
+ * (after diag.identified, which selects the set they amend). */
+static const real_key_t s_diag_keys[] = {
+    {OFF(diag_r_fit_high_frac), offsetof(diag_detect_config_t, r_fit_high_frac)},
+};
+#define N_DIAG_KEYS (sizeof s_diag_keys / sizeof s_diag_keys[0])
+
 /* Every key of map[0..n) not given (NaN in cfg). */
 static void real_keys_unset(lx_config_t *cfg, const real_key_t *map, size_t n)
 {
@@ -239,7 +246,7 @@ void lx_config_default(lx_config_t *cfg)
     /* not given: the application's defaults */
     real_keys_unset(cfg, s_model_keys, N_MODEL_KEYS);
     real_keys_unset(cfg, s_sl_keys, N_SL_KEYS);
-    cfg->diag_r_fit_high_frac = (double)NAN;
+    real_keys_unset(cfg, s_diag_keys, N_DIAG_KEYS);
 }
 
 static char *trim(char *s)
@@ -674,8 +681,6 @@ void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
         if (cfg->diag_identified != 0) {
             diag_detect_config_identified(&app->diag);
         }
-        if (!isnan(cfg->diag_r_fit_high_frac)) {
-            app->diag.r_fit_high_frac = (tv_real_t)cfg->diag_r_fit_high_frac;
-        }
+        (void)real_keys_copy(cfg, s_diag_keys, N_DIAG_KEYS, &app->diag);
     }
 }
