@@ -1,6 +1,6 @@
 /**
  * @file volt_fit.c
- * @brief Least-squares fit of the voltage equation over windows of driven periods (see volt_fit.h).
+ * @brief Instrumental-variable fits of the voltage equation over windows of driven periods (see volt_fit.h).
  */
 #include "volt_fit.h"
 
@@ -49,33 +49,43 @@ static int vfit_apart(const vfit_t *f, tv_real_t a, tv_real_t b, tv_real_t c, tv
     return a > TV_R(0.0) && c > TV_R(0.0) && b * b <= f->cfg.rho2_max * a * c && det > TV_R(0.0);
 }
 
-/* The window's 2 x 2 solve over the sums s of n driven periods: R and n Ke from the normal
- * equations, their standard deviations from the residual variance scaled by the correlation
- * length. 1 when taken. */
+/* The window's 2 x 2 solve over the sums s of n driven periods (volt_fit.h): R and n Ke by
+ * instrumental variables, A theta = Z'y with A = Z'X, Z = (i, w), X = (i, v); their standard
+ * deviations sqrt(var [A^-1 Z'Z A^-T]_jj), the variance per degree of freedom of the residual
+ * on w (the model's errors, which last for many periods) times the correlation length, plus
+ * that of the residual on v (the differentiated angle's noise, white). 1 when taken. */
 static int vfit_solve(vfit_t *f, const tv_real_t *s, uint32_t n)
 {
-    const tv_real_t det = s[0] * s[2] - s[1] * s[1];
+    /* A = [S_ii S_iv; S_wi S_wv] */
+    const tv_real_t det = s[0] * s[10] - s[9] * s[1];
+    const tv_real_t dof = (tv_real_t)(n - 2u);
     tv_real_t r;
     tv_real_t k;
+    tv_real_t rss_w;
+    tv_real_t rss_v;
     tv_real_t var;
-    /* collinear current and velocity: R and n Ke not apart */
+    tv_real_t q_r;
+    tv_real_t q_k;
+    /* the instruments (nearly) collinear, or either constant: R and n Ke not apart */
     if (!vfit_apart(f, s[0], s[1], s[2], det)) {
         return 0;
     }
-    r = (s[2] * s[3] - s[1] * s[4]) / det;
+    r = (s[10] * s[3] - s[9] * s[4]) / det;
     k = (s[0] * s[4] - s[1] * s[3]) / det;
-    /* residual sum of squares y'y - theta' X'y, per degree of freedom, times the correlation length */
-    var = (s[5] - r * s[3] - k * s[4]) / (tv_real_t)(n - 2u) * f->cfg.corr_periods;
-    if (!TV_IS_FINITE(r) || !TV_IS_FINITE(k) || !TV_IS_FINITE(var)) {
+    rss_w = s[5] - TV_R(2.0) * (r * s[3] + k * s[4]) + r * r * s[0] + TV_R(2.0) * r * k * s[1] + k * k * s[2];
+    rss_v = s[5] - TV_R(2.0) * (r * s[3] + k * s[12]) + r * r * s[0] + TV_R(2.0) * r * k * s[9] + k * k * s[11];
+    /* (rounding of a near-perfect fit can leave a sum of squares a little below 0) */
+    var = ((rss_w > TV_R(0.0) ? rss_w : TV_R(0.0)) * f->cfg.corr_periods + (rss_v > TV_R(0.0) ? rss_v : TV_R(0.0))) / dof;
+    /* [A^-1 Z'Z A^-T]: A^-1's rows (S_wv, -S_iv) / det and (-S_wi, S_ii) / det */
+    q_r = (s[10] * s[10] * s[0] - TV_R(2.0) * s[10] * s[9] * s[1] + s[9] * s[9] * s[2]) / (det * det);
+    q_k = s[0] * (s[0] * s[2] - s[1] * s[1]) / (det * det);
+    if (!TV_IS_FINITE(r) || !TV_IS_FINITE(k) || !TV_IS_FINITE(var) || !TV_IS_FINITE(q_r) || !TV_IS_FINITE(q_k)) {
         return 0;
-    }
-    if (var < TV_R(0.0)) {
-        var = TV_R(0.0); /* rounding of a near-perfect fit */
     }
     f->r_ohm = r;
     f->nke_V_s = k;
-    f->r_sigma_ohm = TV_SQRT(var * s[2] / det);
-    f->nke_sigma_V_s = TV_SQRT(var * s[0] / det);
+    f->r_sigma_ohm = TV_SQRT(var * (q_r > TV_R(0.0) ? q_r : TV_R(0.0)));
+    f->nke_sigma_V_s = TV_SQRT(var * (q_k > TV_R(0.0) ? q_k : TV_R(0.0)));
     f->valid = 1u;
     ++f->windows;
     return VFIT_TOOK_FIT;
