@@ -1,31 +1,40 @@
 /**
  * @file volt_fit.h
- * @brief The winding's resistance and back-EMF constant from the voltage equation alone: a
- *        least-squares fit over windows of driven periods.
+ * @brief The winding's resistance and back-EMF constant from the voltage equation alone: an
+ *        instrumental-variable fit over windows of driven periods.
  *
  * Over one sampling period of length T the armature's voltage equation, averaged, reads
  *
- *     u - L (i1 - i0) / T = R (i0 + i1) / 2 + n Ke (w0 + w1) / 2
+ *     u - L (i1 - i0) / T = R (i0 + i1) / 2 + n Ke v
  *
  * with u the voltage applied over the period [V], i0, i1 the measured currents at its start and
- * end [A], w0, w1 the estimator's plate velocity there [rad/s], L the model's inductance [H]
- * (its +-20 % spread moves the fit by less than 0.3 %: the inductive term averages out) and n Ke
- * the back-EMF constant at the plate [V s/rad]. Every period with |u| >= u_min_V adds its terms
- * to the sums of the block under way; after `block` such periods the block is complete, and the
- * 2 x 2 normal equations over the last `blocks` complete blocks give R and n Ke (a sliding window
- * of blocks x block driven periods, a new result every block). The estimator's own resistance state (ekf.h, dR) takes every error of the
- * voltage equation for a resistance error, the back-EMF constant's above all: a unit whose Ke is
- * 5 - 9 % off the model's reads R + dR 7 - 12 % off in fast motion. The fit reads both constants
- * at once, so it sees R within 1 - 2 % on such units, and it tells shorted turns (R and Ke down
- * together) from a current-sensor gain (R down, Ke as it was: the gain divides R, never Ke).
+ * end [A], v = (phi1 - phi0) / T the period's mean plate velocity from the measured angle [rad/s],
+ * L the model's inductance [H] (its +-20 % spread moves the fit by less than 0.3 %: the inductive
+ * term averages out) and n Ke the back-EMF constant at the plate [V s/rad]. Every period with
+ * |u| >= u_min_V adds its terms to the sums of the block under way; after `block` such periods the
+ * block is complete, and the sums over the last `blocks` complete blocks give R and n Ke (a sliding
+ * window of blocks x block driven periods, a new result every block).
  *
- * A window is taken only when current and velocity are not (nearly) collinear over it
+ * Instrumental variables: v has no model error but the tracks' noise, which in a least-squares
+ * regressor would shrink n Ke; the estimator's velocity w = (w0 + w1) / 2 has little noise but,
+ * on a unit whose friction and springs are not the model's, errors that follow the motion, which
+ * least squares on w takes into n Ke and R (healthy all_varied units: R 0.98 - 1.02 of their own,
+ * n Ke up to 1.5 on windows of little motion). So v is the regressor and w the instrument: Z'X
+ * theta = Z'y with Z = (i, w), X = (i, v), y the left-hand side (healthy units: R 1.00 - 1.01,
+ * README "The fit's R by instrumental variables"). The estimator's own resistance state (ekf.h,
+ * dR) takes every error of the voltage equation for a resistance error, the back-EMF constant's
+ * above all: a unit whose Ke is 5 - 9 % off the model's reads R + dR 7 - 12 % off in fast motion.
+ * The fit reads both constants at once, so it tells shorted turns (R and Ke down together) from a
+ * current-sensor gain (R down, Ke as it was: the gain divides R, never Ke).
+ *
+ * A window is taken only when current and estimated velocity are not (nearly) collinear over it
  * (rho^2 <= rho2_max), else R and n Ke cannot be told apart and the last result stays.
  *
- * Standard deviations: the least-squares formula sigma^2 (X'X)^-1 with the residual variance,
- * scaled by corr_periods, the residuals' correlation length in periods (they are model errors
- * that last for many periods, not white noise; the default is measured, README "The voltage
- * equation's fit").
+ * Standard deviations: sqrt(var [A^-1 Z'Z A^-T]_jj), A = Z'X, with var the variance per degree of
+ * freedom of the residual on w (y - R i - n Ke w: the model's errors, which last for many periods,
+ * not white noise) times corr_periods, their correlation length in periods (the default is
+ * measured, README "The voltage equation's fit"), plus that of the residual on v (its share of the
+ * angle's noise, white).
  *
  * The current measurement's offset: a sensor that reads i + b leaves an intercept u0 = -R b in
  *
@@ -41,8 +50,8 @@
  * normal equations Z'X theta = Z'y with Z = (i, w, 1), X = (i, v, 1)). Measured on the fault
  * matrix's healthy evaluation runs (150, 8 s): |b| at most 25 mA (least squares on w: 44 mA);
  * with +50 mA, 45 - 64 mA wherever the window lies after the onset (README "The current offset
- * from the fit"). Its standard deviation is sigma^2 (A^-1 Z'Z A^-T), A = Z'X, with the residual
- * variance scaled by corr_periods as above.
+ * from the fit"). Its standard deviation is sigma^2 (A^-1 Z'Z A^-T), A = Z'X, with the variance of
+ * its residual (on v) scaled by corr_periods.
  *
  * No heap, no globals; one call per period, a fixed cost of a few multiply-adds (the 2 x 2 solve
  * once per window).
