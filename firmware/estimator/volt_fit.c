@@ -49,6 +49,30 @@ static int vfit_apart(const vfit_t *f, tv_real_t a, tv_real_t b, tv_real_t c, tv
     return a > TV_R(0.0) && c > TV_R(0.0) && b * b <= f->cfg.rho2_max * a * c && det > TV_R(0.0);
 }
 
+/* x when positive, else 0: a sum of squares that rounding of a near-perfect fit left a little
+ * below 0. */
+static tv_real_t vfit_nonneg(tv_real_t x)
+{
+    return x > TV_R(0.0) ? x : TV_R(0.0);
+}
+
+/* The 2 x 2 instrumental-variable solve A (r, k)' = b, A = [a00 a01; a10 a11] (rows: the
+ * instruments i, w; columns: the regressors i, x), det its determinant. */
+static void vfit_iv2(tv_real_t a00, tv_real_t a01, tv_real_t a10, tv_real_t a11, tv_real_t b0, tv_real_t b1,
+                     tv_real_t det, tv_real_t *r, tv_real_t *k)
+{
+    *r = (a11 * b0 - a01 * b1) / det;
+    *k = (a00 * b1 - a10 * b0) / det;
+}
+
+/* The residual sum of squares of y - r i - k x from the (raw or centred) sums y y, i y, x y,
+ * i i, i x, x x. */
+static tv_real_t vfit_rss(tv_real_t yy, tv_real_t iy, tv_real_t xy, tv_real_t ii, tv_real_t ix, tv_real_t xx,
+                          tv_real_t r, tv_real_t k)
+{
+    return yy - TV_R(2.0) * (r * iy + k * xy) + r * r * ii + TV_R(2.0) * r * k * ix + k * k * xx;
+}
+
 /* The window's 2 x 2 solve over the sums s of n driven periods (volt_fit.h): R and n Ke by
  * instrumental variables, A theta = Z'y with A = Z'X, Z = (i, w), X = (i, v); their standard
  * deviations sqrt(var [A^-1 Z'Z A^-T]_jj), the variance per degree of freedom of the residual
@@ -70,12 +94,10 @@ static int vfit_solve(vfit_t *f, const tv_real_t *s, uint32_t n)
     if (!vfit_apart(f, s[0], s[1], s[2], det)) {
         return 0;
     }
-    r = (s[10] * s[3] - s[9] * s[4]) / det;
-    k = (s[0] * s[4] - s[1] * s[3]) / det;
-    rss_w = s[5] - TV_R(2.0) * (r * s[3] + k * s[4]) + r * r * s[0] + TV_R(2.0) * r * k * s[1] + k * k * s[2];
-    rss_v = s[5] - TV_R(2.0) * (r * s[3] + k * s[12]) + r * r * s[0] + TV_R(2.0) * r * k * s[9] + k * k * s[11];
-    /* (rounding of a near-perfect fit can leave a sum of squares a little below 0) */
-    var = ((rss_w > TV_R(0.0) ? rss_w : TV_R(0.0)) * f->cfg.corr_periods + (rss_v > TV_R(0.0) ? rss_v : TV_R(0.0))) / dof;
+    vfit_iv2(s[0], s[9], s[1], s[10], s[3], s[4], det, &r, &k);
+    rss_w = vfit_rss(s[5], s[3], s[4], s[0], s[1], s[2], r, k);
+    rss_v = vfit_rss(s[5], s[3], s[12], s[0], s[9], s[11], r, k);
+    var = (vfit_nonneg(rss_w) * f->cfg.corr_periods + vfit_nonneg(rss_v)) / dof;
     /* [A^-1 Z'Z A^-T]: A^-1's rows (S_wv, -S_iv) / det and (-S_wi, S_ii) / det */
     q_r = (s[10] * s[10] * s[0] - TV_R(2.0) * s[10] * s[9] * s[1] + s[9] * s[9] * s[2]) / (det * det);
     q_k = s[0] * (s[0] * s[2] - s[1] * s[1]) / (det * det);
@@ -84,8 +106,8 @@ static int vfit_solve(vfit_t *f, const tv_real_t *s, uint32_t n)
     }
     f->r_ohm = r;
     f->nke_V_s = k;
-    f->r_sigma_ohm = TV_SQRT(var * (q_r > TV_R(0.0) ? q_r : TV_R(0.0)));
-    f->nke_sigma_V_s = TV_SQRT(var * (q_k > TV_R(0.0) ? q_k : TV_R(0.0)));
+    f->r_sigma_ohm = TV_SQRT(var * vfit_nonneg(q_r));
+    f->nke_sigma_V_s = TV_SQRT(var * vfit_nonneg(q_k));
     f->valid = 1u;
     ++f->windows;
     return VFIT_TOOK_FIT;
@@ -126,14 +148,12 @@ static int vfit_offset(vfit_t *f, const tv_real_t *s, uint32_t n)
     if (!vfit_apart(f, cii, ciw, cww, det)) {
         return 0;
     }
-    r = (cwv * ciy - civ * cwy) / det;
-    k = (cii * cwy - ciw * ciy) / det;
+    vfit_iv2(cii, civ, ciw, cwv, ciy, cwy, det, &r, &k);
     if (!(r > TV_R(0.0))) {
         return 0;
     }
     /* residual sum of squares of y - r i - k v (centred), per degree of freedom, times the correlation length */
-    var = (cyy - TV_R(2.0) * (r * ciy + k * cvy) + r * r * cii + TV_R(2.0) * r * k * civ + k * k * cvv) / (tv_real_t)(n - 3u) *
-          f->cfg.corr_periods;
+    var = vfit_rss(cyy, ciy, cvy, cii, civ, cvv, r, k) / (tv_real_t)(n - 3u) * f->cfg.corr_periods;
     if (var < TV_R(0.0)) {
         var = TV_R(0.0); /* rounding of a near-perfect fit */
     }
