@@ -2845,7 +2845,7 @@ static int fit_r_case(const tv_real_t *win, int n_win, int temp_known, int p1a04
         (void)diag_report(d, DIAG_DTC_P1A04, DIAG_FAIL, &snap, TV_R(0.05));
     }
     for (k = 0; k < n_win; ++k) {
-        diag_fit_resistance_check(dd, d, win[k] > TV_R(0.0) && temp_known, win[k]);
+        diag_fit_resistance_check(dd, d, win[k] > TV_R(0.0) && temp_known, win[k], TV_R(1.0), 0);
     }
     for (k = 1; k <= 300; ++k) {
         snap.t_us = (uint64_t)k * 1000u;

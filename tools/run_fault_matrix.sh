@@ -78,7 +78,7 @@ specs=(
   bridge_pos_lost bridge_neg_lost
   supply_sag:2 supply_sag:3 supply_sag:5
 )
-common=(--plants "$plants" --seeds "$seeds" --sections stops,all,identified --scenarios "$scenarios" --duration "$duration"
+common=(--plants "$plants" --seeds "$seeds" --sections stops,all,identified --scenarios "$scenarios" --duration "$duration" --fit-baseline on
   --temp-reading plant)
 pop=build/host-release/bin/population
 echo "fault matrix: ${#specs[@]} fault specs + healthy, ${plants} units x 3 sections x ${scenarios//,/ } x ${seeds} seed(s), ${duration} s runs, onset ${ONSET} s" >&2
@@ -102,7 +102,7 @@ if [[ -n $soak_from && ! -f $soak_from ]]; then
 fi
 if ((soak)); then
   echo "healthy soak: ${soak_duration} s per run (tools/run_healthy_soak.sh)" >&2
-  tools/run_healthy_soak.sh --duration "$soak_duration" --temp-reading plant \
+  tools/run_healthy_soak.sh --duration "$soak_duration" --temp-reading plant --fit-baseline on \
     --scenarios paper_sine,closed_steps,closed_ramp,chirp,slow_sine,open_steps,standstill,limp_home,drive >&2
   soak_json=out/soak/summary.json
 fi

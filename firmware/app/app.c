@@ -193,6 +193,8 @@ int app_init(app_t *app, const app_config_t *cfg)
     (void)app_set_winding_temp(app, 0, TV_R(0.0)); /* unknown until told */
     diag_init(&app->diag);
     (void)diag_detect_init(&app->ddet, &cfg->diag); /* validated above */
+    app->fit_base_r_ohm = cfg->diag.fit_base_r_ohm;
+    app->fit_base_nke_V_s = cfg->diag.fit_base_nke_V_s;
     {
         /* the bridge check's armature (the model's R and L do not change in service) */
         tv_real_t a_T;
@@ -653,14 +655,51 @@ static void app_diag_motor(app_t *app, const app_input_t *in, tv_real_t current,
                     app->ekf.model.nKe_V_s * snap->x[TVM_W], motion_ok, app->ekf.model.nKe_V_s * w_meas, current, snap);
 }
 
-/* After the control law: the action of the confirmed codes on the outputs, then the jam check
- * on what is really applied (a plate the bridge no longer drives is not judged). */
 /* 1 while the model is the one in service: not while the stops are learned nor during the
  * identification sequence (both drive the plate into its stops on purpose). */
 static int model_in_service(const app_control_t *c)
 {
     return c->mode != APP_MODE_STOP_LEARN && c->mode != APP_MODE_IDENT;
 }
+
+/* The fit's per-unit baseline, learned (diag_detect_config_t::fit_base_windows): the window just
+ * taken (the model in service, the winding's temperature known) joins the mean while no code is
+ * pending or confirmed and its n Ke is determined; after fit_base_windows of them the mean is the
+ * baseline, kept when it lies inside APP_FIT_BASE_R_BAND / APP_FIT_BASE_K_BAND of the model's
+ * (the class's spread and the temperature's error), else the learning starts over. */
+static void fit_base_learn(app_t *app)
+{
+    const uint16_t need = app->cfg.diag.fit_base_windows;
+    const tv_real_t k_nom = app->ekf.model.nKe_V_s;
+    int k;
+    if (need == 0u || !(app->vfit.nke_sigma_V_s <= app->cfg.diag.ke_sigma_max * k_nom)) {
+        return;
+    }
+    for (k = 0; k < (int)DIAG_DTC_COUNT; ++k) {
+        if (app->diag.code[k].counter > 0u || app->diag.code[k].confirmed) {
+            return;
+        }
+    }
+    app->fit_base_sum_r += app->vfit.r_ohm * app->r_temp_inv;
+    app->fit_base_sum_k += app->vfit.nke_V_s;
+    if (++app->fit_base_n >= need) {
+        const tv_real_t r = app->fit_base_sum_r / (tv_real_t)app->fit_base_n;
+        const tv_real_t kk = app->fit_base_sum_k / (tv_real_t)app->fit_base_n;
+        const tv_real_t r_rel = r / app->ekf.model.p.R_ohm;
+        const tv_real_t k_rel = kk / k_nom;
+        if (TV_FABS(r_rel - TV_R(1.0)) <= (tv_real_t)APP_FIT_BASE_R_BAND &&
+            TV_FABS(k_rel - TV_R(1.0)) <= (tv_real_t)APP_FIT_BASE_K_BAND) {
+            app->fit_base_r_ohm = r;
+            app->fit_base_nke_V_s = kk;
+        }
+        app->fit_base_n = 0u;
+        app->fit_base_sum_r = TV_R(0.0);
+        app->fit_base_sum_k = TV_R(0.0);
+    }
+}
+
+/* After the control law: the action of the confirmed codes on the outputs, then the jam check
+ * on what is really applied (a plate the bridge no longer drives is not judged). */
 
 static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t *out, int tq_ok, tv_real_t w_pred)
 {
@@ -975,12 +1014,20 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
             /* (judged only on a step that took a window) */
             const int in_service = took != 0 && model_in_service(&app->cfg.control);
             if (took & VFIT_TOOK_FIT) {
-                /* a window taken: the back-EMF check against the model's constants, and its R
-                 * against the model's while the winding's temperature is known */
-                const tv_real_t k_nom = app->ekf.model.nKe_V_s;
-                const tv_real_t r_ratio = app->vfit.r_ohm / (app->ekf.model.p.R_ohm * app->r_temp_factor);
-                diag_backemf_check(&app->ddet, &app->diag, r_ratio, app->vfit.nke_V_s / k_nom, app->vfit.nke_sigma_V_s / k_nom);
-                diag_fit_resistance_check(&app->ddet, &app->diag, in_service && app->winding_temp_known, r_ratio);
+                /* a window taken: the back-EMF check against the model's constants (the unit's
+                 * baseline when it has one), and its R against the model's (the baseline's)
+                 * while the winding's temperature is known */
+                const int base = app->fit_base_r_ohm > TV_R(0.0);
+                const tv_real_t k_nom = base ? app->fit_base_nke_V_s : app->ekf.model.nKe_V_s;
+                const tv_real_t r_ratio =
+                    app->vfit.r_ohm / ((base ? app->fit_base_r_ohm : app->ekf.model.p.R_ohm) * app->r_temp_factor);
+                const tv_real_t ke_ratio = app->vfit.nke_V_s / k_nom;
+                diag_backemf_check(&app->ddet, &app->diag, r_ratio, ke_ratio, app->vfit.nke_sigma_V_s / k_nom);
+                diag_fit_resistance_check(&app->ddet, &app->diag, in_service && app->winding_temp_known, r_ratio, ke_ratio,
+                                          base);
+                if (!base && in_service && app->winding_temp_known) {
+                    fit_base_learn(app);
+                }
             }
             if ((took & VFIT_TOOK_OFFSET) && in_service) {
                 /* the model in service only (diag_isens_fit_check()) */
@@ -1080,6 +1127,8 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     out->fit_r_sigma_ohm = app->vfit.valid ? app->vfit.r_sigma_ohm : TV_R(0.0);
     out->fit_nke_V_s = app->vfit.valid ? app->vfit.nke_V_s : TV_R(0.0);
     out->fit_i_off_A = app->vfit.off_valid ? app->vfit.i_off_A : TV_R(0.0);
+    out->fit_base_r_ohm = app->fit_base_r_ohm;
+    out->fit_base_nke_V_s = app->fit_base_nke_V_s;
     app_diag_post(app, &dsnap, out, tq_ok, w_pred); /* diagnostics after the control law: the codes' actions, jam check */
     out->faults = app->faults;
     ++app->n_steps;

@@ -208,6 +208,10 @@ typedef struct {
                                        first window */
     tv_real_t fit_i_off_A;        /**< the current measurement's offset the fit reads (vfit_t::i_off_A, P1A04's
                                        reading) [A]; 0 until a window gave one */
+    tv_real_t fit_base_r_ohm;     /**< the fit's per-unit baseline in force (given or learned): R at
+                                       APP_R_REF_TEMP_C [ohm]; 0 while none (persist it once learned:
+                                       diag.fit_base_r_ohm) */
+    tv_real_t fit_base_nke_V_s;   /**< its n Ke at the plate [V s/rad]; 0 while none (diag.fit_base_nke_V_s) */
     ekf_innov_t innov;     /**< innovations, their variances, NIS */
     int ekf_status;        /**< status of this step's correction (0 ok) */
     uint32_t faults;       /**< latched APP_FAULT_* mask */
@@ -273,6 +277,12 @@ typedef struct {
     tv_real_t winding_temp_C;   /**< the winding's temperature [degC] while known */
     tv_real_t r_temp_factor;    /**< 1 + APP_COPPER_ALPHA_PER_K (winding_temp_C - APP_R_REF_TEMP_C); 1 while unknown */
     tv_real_t r_temp_inv;       /**< 1 / r_temp_factor */
+    /* the fit's per-unit baseline (diag_detect_config_t::fit_base_*): given, or learned here */
+    tv_real_t fit_base_r_ohm;   /**< the baseline's R at APP_R_REF_TEMP_C [ohm]; 0: none (yet) */
+    tv_real_t fit_base_nke_V_s; /**< its n Ke [V s/rad]; 0: none (yet) */
+    tv_real_t fit_base_sum_r;   /**< learning: sum of the windows' R referred to APP_R_REF_TEMP_C [ohm] */
+    tv_real_t fit_base_sum_k;   /**< learning: sum of their n Ke [V s/rad] */
+    uint16_t fit_base_n;        /**< learning: windows summed */
 } app_t;
 
 /**
@@ -329,6 +339,12 @@ int app_set_target(app_t *app, tv_real_t target_rad);
 #define APP_COPPER_ALPHA_PER_K 0.00393 /**< copper's temperature coefficient of resistance at 20 degC [1/K] */
 #define APP_WINDING_TEMP_MIN_C (-40.0) /**< app_set_winding_temp() accepts [min, max] [degC] */
 #define APP_WINDING_TEMP_MAX_C 180.0
+/** A learned baseline of the fit (diag_detect_config_t::fit_base_windows) is kept when its R at
+ *  APP_R_REF_TEMP_C lies within this fraction of the model's (the class's +-20 % spread and a
+ *  temperature reading's error) ... */
+#define APP_FIT_BASE_R_BAND 0.3
+/** ... and its n Ke within this fraction of the model's (the class's +-10 %) [-]. */
+#define APP_FIT_BASE_K_BAND 0.15
 
 /**
  * Set the winding's temperature (a sensor, or the engine controller's estimate over CAN:

@@ -79,6 +79,11 @@ void diag_detect_config_default(diag_detect_config_t *cfg)
     cfg->ke_sigma_max = TV_R(0.03);
     cfg->r_fit_high_frac = TV_R(1.25);
     cfg->identified = 0u;
+    cfg->fit_base_r_ohm = TV_R(0.0);
+    cfg->fit_base_nke_V_s = TV_R(0.0);
+    cfg->fit_base_windows = 0u;
+    cfg->r_fit_base_high_frac = TV_R(1.10);
+    cfg->gain_fit_base_max = TV_R(0.97);
 }
 
 void diag_detect_config_identified(diag_detect_config_t *cfg)
@@ -120,7 +125,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
                                  cfg->probe_trigger, cfg->probe_min_weight, cfg->probe_friction_frac, cfg->probe_move_rad,
                                  cfg->gain_r_max, cfg->gain_mech_min, cfg->gain_kw_max, cfg->gain_w_var_min,
                                  cfg->gain_r_known_max, cfg->isens_sig_friction_low, cfg->ke_short_max, cfg->ke_sigma_max,
-                                 cfg->r_fit_high_frac};
+                                 cfg->r_fit_high_frac, cfg->r_fit_base_high_frac, cfg->gain_fit_base_max};
         size_t k;
         for (k = 0; k < sizeof all / sizeof all[0]; ++k) {
             if (!TV_IS_FINITE(all[k])) {
@@ -132,7 +137,10 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         }
     }
     if (cfg->tps_vote_frac > TV_R(0.5) || !(cfg->r_high_frac > TV_R(1.0)) || !(cfg->r_high_frac_known > TV_R(1.0)) || !(cfg->r_low_frac < TV_R(1.0)) ||
-        !(cfg->r_fit_high_frac > TV_R(1.0)) ||
+        !(cfg->r_fit_high_frac > TV_R(1.0)) || !(cfg->r_fit_base_high_frac > TV_R(1.0)) ||
+        !(cfg->gain_fit_base_max < TV_R(1.0)) || !TV_IS_FINITE(cfg->fit_base_r_ohm) || !TV_IS_FINITE(cfg->fit_base_nke_V_s) ||
+        cfg->fit_base_r_ohm < TV_R(0.0) || cfg->fit_base_nke_V_s < TV_R(0.0) ||
+        (cfg->fit_base_r_ohm > TV_R(0.0)) != (cfg->fit_base_nke_V_s > TV_R(0.0)) ||
         !(cfg->r_low_frac_known < TV_R(1.0)) ||
         !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0)) ||
         !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) || !(cfg->isens_fit_vif_max >= TV_R(1.0)) ||
@@ -479,6 +487,11 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
      * estimator's R + dR not passing it meanwhile (with the preload or the friction down as well,
      * the current sensor reads too little: no verdict, as below) */
     fit_high = temp_known && dd->r_fit_high_n >= DIAG_R_FIT_HIGH_WINDOWS && !dd->mech_low;
+    if (temp_known && dd->r_fit_low_n >= DIAG_R_FIT_HIGH_WINDOWS) {
+        /* the fit's R below the unit's baseline with its n Ke intact: a current-sensor gain
+         * (diag_fit_resistance_check()) */
+        (void)diag_report(d, DIAG_DTC_P1A04, DIAG_FAIL, snap, dd->r_fit_ratio);
+    }
     if (!(TV_FABS(current_A) >= dd->cfg.r_excite_A) || !TV_IS_FINITE(r_est_ohm) || !TV_IS_FINITE(r_sigma_ohm) ||
         !(r_nom_ohm > TV_R(0.0)) || !(r_sigma_ohm > TV_R(0.0)) || r_sigma_ohm > dd->cfg.r_sigma_max_frac * r_nom_ohm) {
         if (fit_high) {
@@ -562,24 +575,39 @@ void diag_backemf_check(diag_detect_t *dd, const diag_t *d, tv_real_t r_ratio, t
     }
 }
 
-void diag_fit_resistance_check(diag_detect_t *dd, const diag_t *d, int active, tv_real_t r_ratio)
+/* One more window in a row for a saturating count when cond holds, else none. */
+static void count_windows(uint8_t *n, int cond)
+{
+    if (!cond) {
+        *n = 0u;
+    } else if (*n < DIAG_R_FIT_HIGH_WINDOWS) {
+        ++*n;
+    }
+}
+
+void diag_fit_resistance_check(diag_detect_t *dd, const diag_t *d, int active, tv_real_t r_ratio, tv_real_t ke_ratio,
+                               int base)
 {
     static const diag_dtc_t other[] = {DIAG_DTC_P2100, DIAG_DTC_P1A03, DIAG_DTC_P1A04};
+    static const diag_dtc_t circuit[] = {DIAG_DTC_P2100, DIAG_DTC_P1A03};
     if (dd == NULL || d == NULL) {
         return;
+    }
+    /* (the gain's count survives P1A04, which it confirms; not the open winding or a lost bridge
+     * direction: the voltage the bridge applies is then not the winding's) */
+    if (!active || !TV_IS_FINITE(r_ratio) || !TV_IS_FINITE(ke_ratio) || !base ||
+        any_active(d, circuit, sizeof circuit / sizeof circuit[0])) {
+        dd->r_fit_low_n = 0u;
+    } else {
+        dd->r_fit_ratio = r_ratio;
+        count_windows(&dd->r_fit_low_n, r_ratio < dd->cfg.gain_fit_base_max && ke_ratio > dd->cfg.ke_short_max);
     }
     if (!active || !TV_IS_FINITE(r_ratio) || any_active(d, other, sizeof other / sizeof other[0])) {
         dd->r_fit_high_n = 0u;
         return;
     }
     dd->r_fit_ratio = r_ratio;
-    if (r_ratio > dd->cfg.r_fit_high_frac) {
-        if (dd->r_fit_high_n < DIAG_R_FIT_HIGH_WINDOWS) {
-            ++dd->r_fit_high_n;
-        }
-    } else {
-        dd->r_fit_high_n = 0u;
-    }
+    count_windows(&dd->r_fit_high_n, r_ratio > (base ? dd->cfg.r_fit_base_high_frac : dd->cfg.r_fit_high_frac));
 }
 
 void diag_isens_fit_check(diag_t *d, const diag_detect_t *dd, tv_real_t offset_A, tv_real_t vif, const diag_snapshot_t *snap)

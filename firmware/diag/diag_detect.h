@@ -552,6 +552,28 @@ typedef struct {
                                        about 60 ms while the estimator catches up) */
     uint8_t identified;           /**< 1: the bounds of diag_detect_config_identified() are in force (the
                                        filter's model is the unit's own); 0: the class's (default) */
+    /* THE FIT'S PER-UNIT BASELINE (README "A per-unit baseline of the fit"): the voltage equation's
+     * fit read on this unit while it was healthy, stored like the learned stops. With it, the
+     * fit's checks judge R and n Ke relative to the unit's own values rather than the class's,
+     * whose +-20 % and +-10 % spread the class bounds must cover. */
+    tv_real_t fit_base_r_ohm;     /**< the unit's winding resistance at APP_R_REF_TEMP_C as the fit read it
+                                       healthy [ohm], >= 0; 0: no baseline (the default; learned when
+                                       fit_base_windows > 0) */
+    tv_real_t fit_base_nke_V_s;   /**< the unit's n Ke at the plate as the fit read it healthy [V s/rad], >= 0;
+                                       0: no baseline (both or neither) */
+    uint16_t fit_base_windows;    /**< learn the baseline as the mean of this many of the fit's windows of the
+                                       model in service with the winding's temperature known, no code
+                                       pending or confirmed and n Ke determined (ke_sigma_max) [windows];
+                                       0: do not learn (the default: a baseline learned on a faulty unit
+                                       would hide its fault; an end-of-line test or the first healthy
+                                       minutes of service set it) */
+    tv_real_t r_fit_base_high_frac; /**< with a baseline: P2101 when the fit's R reads above this times the
+                                       baseline's (at the known temperature) in DIAG_R_FIT_HIGH_WINDOWS
+                                       windows in a row [-], > 1; default 1.10 */
+    tv_real_t gain_fit_base_max;  /**< with a baseline: P1A04 (a current-sensor gain above 1, which divides
+                                       the fit's R and leaves its n Ke) when the fit's R reads below this
+                                       times the baseline's, with n Ke above ke_short_max of the baseline's,
+                                       in DIAG_R_FIT_HIGH_WINDOWS windows in a row [-], (0, 1); default 0.97 */
 } diag_detect_config_t;
 
 /** A spring probe reading: the signature's samples of one direction regressed on the model's
@@ -649,6 +671,8 @@ typedef struct {
                                 DIAG_R_FIT_HIGH_WINDOWS; diag_fit_resistance_check()) */
     tv_real_t r_fit_ratio; /**< the fit's R over the model's in the last window judged [-] (P2101's
                                 freeze value while the fit fails it) */
+    uint8_t r_fit_low_n;   /**< with a baseline: windows in a row whose R read below gain_fit_base_max of it
+                                with n Ke as it was (saturating at DIAG_R_FIT_HIGH_WINDOWS) */
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint16_t offset_sig_n; /**< mechanics checks in a row that read the offset signature (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
@@ -820,10 +844,17 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
  * winding's temperature unknown (a warm winding reads +27 % at 90 degC), and while the open-winding,
  * bridge or current-sensor code (P2100, P1A03, P1A04) is pending or confirmed (an offset of the
  * current sensor moves the fit's R: the fit's offset check names it first).
- * @param active  1 when the window was the model in service with the winding's temperature known
- * @param r_ratio the fit's R over the model's at the winding's temperature [-]
+ * With a per-unit baseline (base 1: r_ratio and ke_ratio are relative to it) the bound is
+ * r_fit_base_high_frac, and DIAG_R_FIT_HIGH_WINDOWS windows in a row whose R reads below
+ * gain_fit_base_max with n Ke above ke_short_max read a current-sensor gain: the resistance check
+ * then fails P1A04 at each driven step until a window reads otherwise.
+ * @param active   1 when the window was the model in service with the winding's temperature known
+ * @param r_ratio  the fit's R over the model's (or the baseline's) at the winding's temperature [-]
+ * @param ke_ratio the fit's n Ke over the model's (or the baseline's) [-]
+ * @param base     1 when the ratios are relative to the unit's baseline (fit_base_r_ohm)
  */
-void diag_fit_resistance_check(diag_detect_t *dd, const diag_t *d, int active, tv_real_t r_ratio);
+void diag_fit_resistance_check(diag_detect_t *dd, const diag_t *d, int active, tv_real_t r_ratio, tv_real_t ke_ratio,
+                               int base);
 
 /** Windows in a row of the back-EMF check that read shorted turns (diag_backemf_check()). */
 #define DIAG_KE_SHORT_WINDOWS 2u

@@ -118,6 +118,11 @@ static const key_desc_t s_keys[] = {
     NUM("stop_learn.k_max_Nm_rad", K_DOUBLE, 1e-9, 1e7, sl_k_max_Nm_rad, 0),
     NUM("diag.identified", K_BOOL, 0, 1, diag_identified, 0),
     NUM("diag.r_fit_high_frac", K_DOUBLE, 1, 3, diag_r_fit_high_frac, 0),
+    NUM("diag.fit_base_r_ohm", K_DOUBLE, 0, 1000, diag_fit_base_r_ohm, 0),
+    NUM("diag.fit_base_nke_V_s", K_DOUBLE, 0, 100, diag_fit_base_nke_V_s, 0),
+    NUM("diag.fit_base_windows", K_U16, 0, 65535, diag_fit_base_windows, 0),
+    NUM("diag.r_fit_base_high_frac", K_DOUBLE, 1, 3, diag_r_fit_base_high_frac, 0),
+    NUM("diag.gain_fit_base_max", K_DOUBLE, 0, 1, diag_gain_fit_base_max, 0),
 };
 
 /* Where an optional real key goes: its double in lx_config_t (NaN = not given) and its tv_real_t
@@ -163,6 +168,10 @@ static const real_key_t s_sl_keys[] = {
  * (after diag.identified, which selects the set they amend). */
 static const real_key_t s_diag_keys[] = {
     {OFF(diag_r_fit_high_frac), offsetof(diag_detect_config_t, r_fit_high_frac)},
+    {OFF(diag_fit_base_r_ohm), offsetof(diag_detect_config_t, fit_base_r_ohm)},
+    {OFF(diag_fit_base_nke_V_s), offsetof(diag_detect_config_t, fit_base_nke_V_s)},
+    {OFF(diag_r_fit_base_high_frac), offsetof(diag_detect_config_t, r_fit_base_high_frac)},
+    {OFF(diag_gain_fit_base_max), offsetof(diag_detect_config_t, gain_fit_base_max)},
 };
 #define N_DIAG_KEYS (sizeof s_diag_keys / sizeof s_diag_keys[0])
 
@@ -682,5 +691,6 @@ void lx_config_apply_app(const lx_config_t *cfg, app_config_t *app)
             diag_detect_config_identified(&app->diag);
         }
         (void)real_keys_copy(cfg, s_diag_keys, N_DIAG_KEYS, &app->diag);
+        app->diag.fit_base_windows = cfg->diag_fit_base_windows;
     }
 }

@@ -20,6 +20,7 @@ enum {
     K_D_STOP, K_STOP_EXP, K_E_PHI, K_E_W, K_SUBSTEPS,
     K_QU, K_QT, K_R_CURRENT, K_R_VELOCITY, K_R_ANGLE, K_CONTACT_BAND, K_QC, K_STOP_LEARN, K_QD_CONTACT, K_QD_FREE, K_D_TAU, K_CONTACT_GATE, K_CONTACT_COUPLING, K_QT_REL, K_IMPACT_TIMING, K_IL_ENABLE, K_IL_GAIN, K_SL_E_MIN, K_SL_E_MAX, K_SL_LAMBDA, K_SL_K_MIN, K_SL_K_MAX,
     K_QR, K_R_SIGMA0, K_DR_MAX, K_DR_EXCITE, K_QF, K_F_SIGMA0, K_F_MAX, K_F_EXCITE, K_QM, K_M_SIGMA0, K_M_MAX, K_NIS_ALPHA, K_NIS_TH, K_NIS_MAX, K_WHITE_TH, K_STUCK_Q_MIN, K_STUCK_HOLD, K_DIAG_IDENTIFIED, K_DIAG_R_FIT,
+    K_DIAG_FIT_BASE_R, K_DIAG_FIT_BASE_NKE, K_DIAG_FIT_BASE_WINDOWS, K_DIAG_R_FIT_BASE, K_DIAG_GAIN_FIT_BASE,
     K_CAL_CUR_OFF, K_CAL_CUR_GAIN, K_CAL_TPS1_ZERO, K_CAL_TPS1_GAIN, K_CAL_TPS2_ZERO, K_CAL_TPS2_GAIN, K_CAL_SUPPLY,
     K_LIM_CUR_MIN, K_LIM_CUR_MAX, K_LIM_TPS_MIN, K_LIM_TPS_MAX, K_LIM_DISAGREE, K_LIM_SUP_MIN, K_LIM_SUP_MAX,
     K_LIM_DEBOUNCE, K_LIM_MAX_GAP,
@@ -388,6 +389,10 @@ static tv_real_t *real_field(app_config_t *c, int k)
     case K_SL_K_MIN: return &c->stop_learn.k_min;
     case K_SL_K_MAX: return &c->stop_learn.k_max;
     case K_DIAG_R_FIT: return &c->diag.r_fit_high_frac;
+    case K_DIAG_FIT_BASE_R: return &c->diag.fit_base_r_ohm;
+    case K_DIAG_FIT_BASE_NKE: return &c->diag.fit_base_nke_V_s;
+    case K_DIAG_R_FIT_BASE: return &c->diag.r_fit_base_high_frac;
+    case K_DIAG_GAIN_FIT_BASE: return &c->diag.gain_fit_base_max;
     case K_QR: return &c->ekf.qr_ohm2_s;
     case K_R_SIGMA0: return &c->ekf.r_sigma0_ohm;
     case K_DR_MAX: return &c->ekf.dr_abs_max_ohm;
@@ -429,6 +434,7 @@ static uint16_t *u16_field(app_config_t *c, int k)
     case K_LIM_TPS_MAX: return &c->limits.tps_max_counts;
     case K_LIM_DEBOUNCE: return &c->limits.debounce_trip;
     case K_LIM_MAX_GAP: return &c->limits.max_gap_periods;
+    case K_DIAG_FIT_BASE_WINDOWS: return &c->diag.fit_base_windows;
     default: return NULL;
     }
 }

@@ -55,6 +55,12 @@ enum { POP_SEC_STOPS = 0, POP_SEC_ALL = 1, POP_SEC_ADAPTED = 2, POP_SEC_IDENT = 
  *  seed (the scored runs use seeds 1.. and the tuning 1001..: this one is neither). */
 #define POP_IDENT_S 30.0
 #define POP_IDENT_SEED 900001u
+/** --fit-baseline: the learning run's length [s], plant noise seed and the windows it averages. */
+#define POP_BASE_S 30.0
+#define POP_BASE_SEED 900002u
+#define POP_BASE_WINDOWS 16u
+/** ... and the winding's temperature then, told exactly [degC] */
+#define POP_BASE_TEMP_C 20.0
 static const char *const s_sec_name[POP_NSEC] = {"stops_varied", "all_varied", "all_varied_adapted",
                                                  "all_varied_identified"};
 static const char *const s_sec_short[POP_NSEC] = {"stops", "all", "adapted", "identified"};
@@ -113,6 +119,18 @@ typedef struct {
 } pop_learn_t;
 
 static pop_learn_t s_learn[POP_NSEC];
+
+/** --fit-baseline: the fit's per-unit baseline learned in a healthy run of each unit (learn_fit_base()). */
+typedef struct {
+    unsigned units;       /**< units whose learning run ran */
+    unsigned failed;      /**< runs that ended without a baseline (the unit's checks stay on the class's model) */
+    double r_rel_min;     /**< smallest learned R at 20 degC over the plant's [-] */
+    double r_rel_max;     /**< largest */
+    double k_rel_min;     /**< smallest learned n Ke over the plant's [-] */
+    double k_rel_max;     /**< largest */
+} pop_base_t;
+
+static pop_base_t s_base[POP_NSEC];
 /** --fault: injected into every scored run (not into the stop learning nor the nominal unit's run). */
 static plant_fault_list_t s_faults;
 /** --winding-temp, --temp-reading: every run of every unit (stop learning, identification, scored). */
@@ -165,6 +183,56 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
     l->err_open_max = max_finite(l->err_open_max, fabs(r.stop_learn_open_rad - pc->phi_open_rad));
     return sim_apply_stop_learning(&r, ac);
 }
+static double min_finite(double a, double b)
+{
+    return !isfinite(a) || b < a ? b : a;
+}
+
+/* --fit-baseline: learn the fit's per-unit baseline (diag.fit_base_*, README "A per-unit baseline
+ * of the fit") in POP_BASE_S of closed-loop driving on the healthy unit (plant noise seed
+ * POP_BASE_SEED, outside the scored seeds), as an ECU does in its first minutes of service after a
+ * cold start, and put
+ * it into ac; stats into *b. A unit whose run learns none keeps the class's checks (counted). */
+static int learn_fit_base(const plant_config_t *pc, app_config_t *ac, uint64_t unit, pop_base_t *b)
+{
+    static app_config_t lc;
+    sim_options_t opt;
+    sim_result_t r;
+    int rc;
+    lc = *ac;
+    lc.diag.fit_base_windows = POP_BASE_WINDOWS;
+    pop_options_default(&opt);
+    /* at a cold start: the winding at the ambient temperature the ECU knows (20 degC, told exactly),
+     * whatever the scored runs' temperature and reading (so a reading's error there is not
+     * learned into the baseline, where it would cancel) */
+    opt.winding_temp_C = POP_BASE_TEMP_C;
+    opt.temp_reading = 1;
+    opt.temp_reading_C = POP_BASE_TEMP_C;
+    opt.scenario = SIM_SCN_DRIVE;
+    opt.duration_s = POP_BASE_S;
+    opt.seed = POP_BASE_SEED;
+    opt.plant = pc;
+    opt.app = &lc;
+    rc = sim_run(&opt, &r);
+    if (rc != TV_OK) {
+        return rc;
+    }
+    ++b->units;
+    if (!isfinite(r.fit_base_r_ohm) || !isfinite(r.fit_base_nke_V_s)) {
+        ++b->failed;
+        fprintf(stderr, "%s: unit %llu: no fit baseline learned in %.0f s of driving (%lu windows)\n", s_prog,
+                (unsigned long long)unit, POP_BASE_S, (unsigned long)r.fit_windows);
+        return TV_OK;
+    }
+    b->r_rel_min = min_finite(b->r_rel_min, r.fit_base_r_ohm / r.r_true_20_ohm);
+    b->r_rel_max = max_finite(b->r_rel_max, r.fit_base_r_ohm / r.r_true_20_ohm);
+    b->k_rel_min = min_finite(b->k_rel_min, r.fit_base_nke_V_s / r.nke_true_V_s);
+    b->k_rel_max = max_finite(b->k_rel_max, r.fit_base_nke_V_s / r.nke_true_V_s);
+    ac->diag.fit_base_r_ohm = (tv_real_t)r.fit_base_r_ohm;
+    ac->diag.fit_base_nke_V_s = (tv_real_t)r.fit_base_nke_V_s;
+    return TV_OK;
+}
+
 /* The samples of the identification log, as identify_main.c takes them from a replayed log: the
  * voltage over the period (bridge enabled), the calibrated current and angle, usable where the
  * bridge is enabled, no fault is latched and no sample is missing. */
@@ -379,6 +447,11 @@ static void usage(FILE *f)
             "  --stop-learning on|off  on (default): each unit first runs the start-up stop\n"
             "                    learning routine (scenario stop_learn, firmware/app/stop_learn.h) and\n"
             "                    its filter uses the learned stops, as an ECU with its stored values\n"
+            "  --fit-baseline on|off  on: each stops_varied and all_varied unit first learns the voltage\n"
+            "                    equation's fit's per-unit baseline (diag.fit_base_r_ohm, diag.fit_base_nke_V_s)\n"
+            "                    in 30 s of healthy closed-loop driving at 20 degC, told exactly (seed\n"
+            "                    900002), and its checks judge the fit against it; off (default):\n"
+            "                    against the class's model\n"
             "  --json PATH       summary (default out/population/summary.json)\n"
             "  --runs-csv PATH   also one line per run (t_condition_s: when a jam, an open winding or a\n"
             "                    spring fault first became observable, host_sim/sim/sim_fault_cond.h)\n"
@@ -548,9 +621,10 @@ int main(int argc, char **argv)
     int k;
     int sec;
     static const char *const takes_value[] = {"--plants", "--seeds", "--first-unit", "--first-seed", "--scenarios", "--duration",
-                                              "--sections", "--params", "--json", "--runs-csv", "--stop-learning",
+                                              "--sections", "--params", "--json", "--runs-csv", "--stop-learning", "--fit-baseline",
                                               "--params-out", "--fault", "--winding-temp", "--temp-reading", NULL};
     int stop_learning = 1;
+    int fit_baseline = 0;
 
     cli_temps_default(&s_temps);
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
@@ -560,6 +634,7 @@ int main(int argc, char **argv)
     }
     for (k = 0; k < POP_NSEC; ++k) {
         s_learn[k].err_closed_max = s_learn[k].err_open_max = s_learn[k].speed_max = s_learn[k].time_max_s = (double)NAN;
+        s_base[k].r_rel_min = s_base[k].r_rel_max = s_base[k].k_rel_min = s_base[k].k_rel_max = (double)NAN;
     }
     for (k = 1; k < argc; ++k) {
         const char *a = argv[k];
@@ -650,6 +725,12 @@ int main(int argc, char **argv)
         } else if (strcmp(a, "--stop-learning") == 0) {
             if (strcmp(v, "on") == 0 || strcmp(v, "off") == 0) {
                 stop_learning = strcmp(v, "on") == 0;
+            } else {
+                return usage_error("option %s: '%s' is not on or off", a, v);
+            }
+        } else if (strcmp(a, "--fit-baseline") == 0) {
+            if (strcmp(v, "on") == 0 || strcmp(v, "off") == 0) {
+                fit_baseline = strcmp(v, "on") == 0;
             } else {
                 return usage_error("option %s: '%s' is not on or off", a, v);
             }
@@ -756,6 +837,9 @@ int main(int argc, char **argv)
             }
             if (rc == TV_OK && stop_learning) {
                 rc = learn_stops(&pc, &ac, &s_learn[sec]);
+            }
+            if (rc == TV_OK && fit_baseline && (sec == POP_SEC_STOPS || sec == POP_SEC_ALL)) {
+                rc = learn_fit_base(&pc, &ac, unit, &s_base[sec]);
             }
             if (rc != TV_OK) {
                 fprintf(stderr, "%s: unit %llu: %s\n", s_prog, (unsigned long long)unit, tv_status_str(rc));
@@ -872,6 +956,12 @@ int main(int argc, char **argv)
                    "largest speed near a stop %.3g rad/s; longest %.2f s; %u with a diagnostic code confirmed\n",
                    l->units, l->failed, 1e3 * l->err_closed_max, 1e3 * l->err_open_max, l->speed_max, l->time_max_s, l->dtc);
         }
+        if (s_base[sec].units > 0u) {
+            const pop_base_t *b = &s_base[sec];
+            printf("  fit baseline: %u units, %u without one; learned R / plant's at 20 degC %.4f - %.4f, n Ke / plant's "
+                   "%.4f - %.4f\n",
+                   b->units, b->failed, b->r_rel_min, b->r_rel_max, b->k_rel_min, b->k_rel_max);
+        }
     }
 
     /* JSON */
@@ -943,6 +1033,18 @@ int main(int argc, char **argv)
             json_num(f, l->speed_max);
             fputs(", \"duration_max_s\": ", f);
             json_num(f, l->time_max_s);
+            fputs("}", f);
+        }
+        if (s_base[sec].units > 0u) {
+            const pop_base_t *b = &s_base[sec];
+            const double v[] = {b->r_rel_min, b->r_rel_max, b->k_rel_min, b->k_rel_max};
+            const char *const key[] = {"r_rel_min", "r_rel_max", "nke_rel_min", "nke_rel_max"};
+            size_t q;
+            fprintf(f, ",\n  \"%s_fit_baseline\": {\"units\": %u, \"failed\": %u", s_sec_name[sec], b->units, b->failed);
+            for (q = 0; q < sizeof v / sizeof v[0]; ++q) {
+                fprintf(f, ", \"%s\": ", key[q]);
+                json_num(f, v[q]);
+            }
             fputs("}", f);
         }
         fprintf(f, ",\n  \"%s_per_scenario\": {", s_sec_name[sec]);

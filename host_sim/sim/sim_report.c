@@ -127,6 +127,11 @@ int sim_result_print(FILE *f, const sim_result_t *r)
                "plant %.4g V s/rad; with an intercept, the current's offset %.3g +- %.3g A\n",
             (unsigned long)r->fit_windows, r->r_fit_ohm, r->r_fit_sigma_ohm, r->nke_fit_V_s, r->nke_fit_sigma_V_s,
             r->nke_true_V_s, r->i_off_fit_A, r->i_off_fit_sigma_A);
+    if (isfinite(r->fit_base_r_ohm)) {
+        fprintf(f, "  the fit's per-unit baseline (given or learned; diag.fit_base_r_ohm, diag.fit_base_nke_V_s): R %.6g ohm "
+                   "at 20 degC, n Ke %.6g V s/rad\n",
+                r->fit_base_r_ohm, r->fit_base_nke_V_s);
+    }
     if (isfinite(r->r_20_ohm)) {
         fprintf(f, "  referred to 20 degC with the winding temperature the application was told: %.4g ohm, plant %.4g ohm\n",
                 r->r_20_ohm, r->r_true_20_ohm);
@@ -250,9 +255,10 @@ int sim_result_json(FILE *f, const sim_result_t *r)
     {
         /* the voltage equation's fit (volt_fit.h) */
         const char *const keys[] = {"fit_ohm", "fit_sigma_ohm", "fit_nke_V_s_rad", "fit_nke_sigma_V_s_rad", "plant_nke_V_s_rad",
-                                    "fit_current_offset_A", "fit_current_offset_sigma_A"};
+                                    "fit_current_offset_A", "fit_current_offset_sigma_A", "fit_base_20C_ohm",
+                                    "fit_base_nke_V_s_rad"};
         const double vals[] = {r->r_fit_ohm, r->r_fit_sigma_ohm, r->nke_fit_V_s, r->nke_fit_sigma_V_s, r->nke_true_V_s,
-                               r->i_off_fit_A, r->i_off_fit_sigma_A};
+                               r->i_off_fit_A, r->i_off_fit_sigma_A, r->fit_base_r_ohm, r->fit_base_nke_V_s};
         size_t k;
         for (k = 0; k < sizeof vals / sizeof vals[0]; ++k) {
             fprintf(f, ", \"%s\": ", keys[k]);

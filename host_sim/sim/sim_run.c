@@ -657,6 +657,8 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         res->nke_true_V_s = pcfg.n_gear * pcfg.Ke_V_s_rad;
         res->i_off_fit_A = vf->off_valid ? (double)vf->i_off_A : (double)NAN;
         res->i_off_fit_sigma_A = vf->off_valid ? (double)vf->i_off_sigma_A : (double)NAN;
+        res->fit_base_r_ohm = app->fit_base_r_ohm > TV_R(0.0) ? (double)app->fit_base_r_ohm : (double)NAN;
+        res->fit_base_nke_V_s = app->fit_base_r_ohm > TV_R(0.0) ? (double)app->fit_base_nke_V_s : (double)NAN;
     }
     {
         tv_real_t f;
