@@ -2902,6 +2902,167 @@ static void test_fit_resistance(void)
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_NONFINITE);
 }
 
+/* The fit against a per-unit baseline (base = 1: the ratios are the fit's over the baseline's):
+ * P2101 from three windows in a row above r_fit_base_high_frac (1.10) rather than 1.25; P1A04
+ * (a current gain: R down, n Ke intact) from three windows in a row below gain_fit_base_max (0.97)
+ * with n Ke above ke_short_max, failed by the resistance check at each driven step (6 confirm),
+ * the freeze frame holding the fit's ratio. Not with n Ke down as well (shorted turns), nor
+ * without a baseline, nor with the temperature unknown, nor at the bounds; the open winding's
+ * code clears the gain's count. Returns the step P2101 (code 0) or P1A04 (code 1) confirmed at,
+ * 0 for none within 300. */
+static int fit_base_case(const tv_real_t *r, const tv_real_t *ke, int n_win, int base, int temp_known, int code,
+                         diag_t *d, diag_detect_t *dd)
+{
+    diag_detect_config_t cfg;
+    diag_snapshot_t snap;
+    const diag_dtc_t dtc = code == 0 ? DIAG_DTC_P2101 : DIAG_DTC_P1A04;
+    int k;
+    diag_detect_config_default(&cfg);
+    TV_CHECK_EQ_INT(diag_detect_init(dd, &cfg), TV_OK);
+    diag_init(d);
+    memset(&snap, 0, sizeof snap);
+    for (k = 0; k < n_win; ++k) {
+        diag_fit_resistance_check(dd, d, temp_known, r[k], ke[k], base);
+    }
+    for (k = 1; k <= 300; ++k) {
+        snap.t_us = (uint64_t)k * 1000u;
+        /* R + dR at the model's: passes P2101 and P1A01 on its own */
+        diag_resistance_check(dd, d, 1, TV_R(1.0), TV_R(4.3), TV_R(0.01), TV_R(4.3), temp_known, &snap);
+        if (diag_confirmed(d, dtc)) {
+            return k;
+        }
+    }
+    return 0;
+}
+
+static void test_fit_baseline(void)
+{
+    static diag_t d;
+    static diag_detect_t dd;
+    static const tv_real_t high[3] = {TV_R(1.12), TV_R(1.15), TV_R(1.11)};
+    static const tv_real_t at_high[3] = {TV_R(1.10), TV_R(1.10), TV_R(1.10)};
+    static const tv_real_t gain[3] = {TV_R(0.955), TV_R(0.96), TV_R(0.95)};
+    static const tv_real_t gain_two[3] = {TV_R(0.955), TV_R(0.96), TV_R(0.99)};
+    static const tv_real_t at_low[3] = {TV_R(0.97), TV_R(0.97), TV_R(0.97)};
+    static const tv_real_t ke_ok[3] = {TV_R(1.0), TV_R(0.99), TV_R(1.01)};
+    static const tv_real_t ke_short[3] = {TV_R(0.8), TV_R(0.8), TV_R(0.8)};
+    diag_detect_config_t cfg;
+    diag_detect_config_default(&cfg);
+    TV_CHECK_NEAR(cfg.r_fit_base_high_frac, 1.10, 1e-6);
+    TV_CHECK_NEAR(cfg.gain_fit_base_max, 0.97, 1e-6);
+    TV_CHECK(cfg.fit_base_r_ohm == TV_R(0.0) && cfg.fit_base_nke_V_s == TV_R(0.0) && cfg.fit_base_windows == 0u);
+    /* P2101 above 1.10 of the baseline (200 failing steps confirm); at it, or without a baseline, not */
+    TV_CHECK_EQ_INT(fit_base_case(high, ke_ok, 3, 1, 1, 0, &d, &dd), 200);
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P2101].freeze.value, 1.11, 1e-6);
+    TV_CHECK_EQ_INT(fit_base_case(at_high, ke_ok, 3, 1, 1, 0, &d, &dd), 0);
+    TV_CHECK_EQ_INT(fit_base_case(high, ke_ok, 3, 0, 1, 0, &d, &dd), 0);
+    /* P1A04: a gain, R below 0.97 of the baseline with n Ke intact: 6 failing steps confirm */
+    TV_CHECK_EQ_INT(fit_base_case(gain, ke_ok, 3, 1, 1, 1, &d, &dd), 6);
+    TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.95, 1e-6);
+    TV_CHECK(!diag_pending(&d, DIAG_DTC_P2101) && !diag_confirmed(&d, DIAG_DTC_P2101));
+    TV_CHECK_EQ_INT(fit_base_case(gain_two, ke_ok, 3, 1, 1, 1, &d, &dd), 0); /* two, then one back */
+    TV_CHECK_EQ_INT(fit_base_case(at_low, ke_ok, 3, 1, 1, 1, &d, &dd), 0);   /* below, not at */
+    TV_CHECK_EQ_INT(fit_base_case(gain, ke_short, 3, 1, 1, 1, &d, &dd), 0);  /* shorted turns */
+    TV_CHECK_EQ_INT(fit_base_case(gain, ke_ok, 3, 0, 1, 1, &d, &dd), 0);     /* no baseline */
+    TV_CHECK_EQ_INT(fit_base_case(gain, ke_ok, 3, 1, 0, 1, &d, &dd), 0);     /* temperature unknown */
+    /* the open winding's code pending clears the gain's count */
+    (void)fit_base_case(gain, ke_ok, 3, 1, 1, 1, &d, &dd);
+    {
+        diag_snapshot_t snap;
+        memset(&snap, 0, sizeof snap);
+        diag_init(&d);
+        (void)diag_report(&d, DIAG_DTC_P2100, DIAG_FAIL, &snap, TV_R(0.0));
+        diag_fit_resistance_check(&dd, &d, 1, gain[0], ke_ok[0], 1);
+        TV_CHECK(dd.r_fit_low_n == 0u);
+    }
+    /* configuration: a baseline needs both values, each >= 0 and finite; the bounds on their side of 1 */
+    cfg.fit_base_r_ohm = TV_R(4.3);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    cfg.fit_base_nke_V_s = TV_R(0.68);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    cfg.fit_base_nke_V_s = TV_R(-0.68);
+    cfg.fit_base_r_ohm = TV_R(-4.3);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    cfg.fit_base_r_ohm = (tv_real_t)NAN;
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    diag_detect_config_default(&cfg);
+    cfg.r_fit_base_high_frac = TV_R(1.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    diag_detect_config_default(&cfg);
+    cfg.gain_fit_base_max = TV_R(1.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+}
+
+/* The baseline learned and used end to end (app.c fit_base_learn(), population_main.c
+ * learn_fit_base()): 30 s of closed-loop driving at 20 degC, told, with fit_base_windows = 16
+ * learn R within 1 % of the plant's and n Ke within 1.5 % on a unit of each class (all_varied);
+ * nothing is learned with the temperature unknown, nor kept when it lies outside the model's
+ * +-30 % (the model's R set 1.45 times too small); with the baseline, a current gain of +5 %
+ * (which the class's bounds do not see on these units) confirms P1A04 and R x 1.25 confirms P2101
+ * in 30 s of driving, and the healthy unit confirms nothing. */
+static void test_fit_baseline_learned_and_used(void)
+{
+    static const uint64_t units[2] = {1000u, 1001u};
+    int u;
+    for (u = 0; u < 2; ++u) {
+        static plant_config_t pc;
+        static app_config_t ac;
+        static app_config_t lc;
+        static sim_result_t r;
+        sim_options_t opt;
+        int d;
+        if (!unit_config(units[u], PLANT_SPREAD_ALL, &pc, &ac, &r)) {
+            TV_CHECK(0); /* both units learn their stops */
+            continue;
+        }
+        lc = ac;
+        lc.diag.fit_base_windows = 16u;
+        sim_options_default(&opt);
+        opt.scenario = SIM_SCN_DRIVE;
+        opt.duration_s = 30.0;
+        opt.seed = 900002u;
+        opt.plant = &pc;
+        opt.app = &lc;
+        /* temperature unknown: no baseline */
+        TV_CHECK_EQ_INT(sim_run(&opt, &r), TV_OK);
+        TV_CHECK(!isfinite(r.fit_base_r_ohm) && !isfinite(r.fit_base_nke_V_s));
+        /* implausible: the model's R 1.45 times too small */
+        opt.temp_reading = 1;
+        opt.temp_reading_C = opt.winding_temp_C;
+        lc.model.R_ohm = ac.model.R_ohm / TV_R(1.45);
+        TV_CHECK_EQ_INT(sim_run(&opt, &r), TV_OK);
+        TV_CHECK(!isfinite(r.fit_base_r_ohm));
+        lc.model.R_ohm = ac.model.R_ohm;
+        TV_CHECK_EQ_INT(sim_run(&opt, &r), TV_OK);
+        TV_CHECK(isfinite(r.fit_base_r_ohm) && fabs(r.fit_base_r_ohm / r.r_true_20_ohm - 1.0) < 0.01);
+        TV_CHECK(isfinite(r.fit_base_nke_V_s) && fabs(r.fit_base_nke_V_s / r.nke_true_V_s - 1.0) < 0.015);
+        printf("  unit %llu: baseline R %.4f of the plant's, n Ke %.4f\n", (unsigned long long)units[u],
+               r.fit_base_r_ohm / r.r_true_20_ohm, r.fit_base_nke_V_s / r.nke_true_V_s);
+        lc.diag.fit_base_r_ohm = (tv_real_t)r.fit_base_r_ohm;
+        lc.diag.fit_base_nke_V_s = (tv_real_t)r.fit_base_nke_V_s;
+        /* the class's bounds: a gain of +5 % not confirmed (its R reads inside the class's spread) */
+        told_run(&pc, &ac, "current_gain:5@2.0", SIM_SCN_DRIVE, 30.0, &r);
+        TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]));
+        /* with the baseline */
+        ac.diag.fit_base_r_ohm = lc.diag.fit_base_r_ohm;
+        ac.diag.fit_base_nke_V_s = lc.diag.fit_base_nke_V_s;
+        told_run(&pc, &ac, "current_gain:5@2.0", SIM_SCN_DRIVE, 30.0, &r);
+        TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) && r.dtc_confirm_t_s[DIAG_DTC_P1A04] > 2.0);
+        TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
+        printf("  unit %llu: current gain +5 %%: P1A04 %.2f s after the onset\n", (unsigned long long)units[u],
+               r.dtc_confirm_t_s[DIAG_DTC_P1A04] - 2.0);
+        told_run(&pc, &ac, "winding_resistance_high:1.25@2.0", SIM_SCN_DRIVE, 30.0, &r);
+        TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]) && r.dtc_confirm_t_s[DIAG_DTC_P2101] > 2.0);
+        TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]));
+        printf("  unit %llu: R x 1.25: P2101 %.2f s after the onset\n", (unsigned long long)units[u],
+               r.dtc_confirm_t_s[DIAG_DTC_P2101] - 2.0);
+        told_run(&pc, &ac, NULL, SIM_SCN_DRIVE, 30.0, &r);
+        for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+            TV_CHECK(!isfinite(r.dtc_confirm_t_s[d]));
+        }
+    }
+}
+
 /* The offset check of the voltage equation's fit (diag_isens_fit_check()): windows reading
  * |b| >= 35 mA fail P1A04 (6 confirm), below 17.5 mA pass (the leaky counter's decrement), in
  * between nothing; a window whose variance inflation is above 50 is not judged, nor any while the
@@ -2961,6 +3122,8 @@ int main(void)
     TV_TEST_RUN(test_backemf_short);
     TV_TEST_RUN(test_isens_fit_offset);
     TV_TEST_RUN(test_fit_resistance);
+    TV_TEST_RUN(test_fit_baseline);
+    TV_TEST_RUN(test_fit_baseline_learned_and_used);
     TV_TEST_RUN(test_jam_confirmed_within_100_ms);
     TV_TEST_RUN(test_sticky_plate_jam_within_100_ms_of_stall);
     TV_TEST_RUN(test_open_winding_confirmed_within_10_ms);

@@ -395,6 +395,26 @@ static void test_identified_stop_learning_and_bounds_applied(void)
     TV_CHECK(app.diag.identified == 1u && app.diag.r_fit_high_frac == (tv_real_t)1.32);
     TV_CHECK_EQ_INT(parse_with("diag.r_fit_high_frac = 0.9\n", &cfg, err, sizeof err), TV_ERR_RANGE);
     TV_CHECK(strstr(err, "diag.r_fit_high_frac") != NULL);
+    /* the fit's per-unit baseline and its bounds (diag_detect.h), also with the identified bounds */
+    TV_CHECK_EQ_INT(parse_with("diag.identified = 1\ndiag.fit_base_r_ohm = 4.375\ndiag.fit_base_nke_V_s = 0.625\n"
+                               "diag.fit_base_windows = 24\ndiag.r_fit_base_high_frac = 1.125\n"
+                               "diag.gain_fit_base_max = 0.9375\n",
+                               &cfg, err, sizeof err),
+                    TV_OK);
+    app_config_default(&app);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK(app.diag.identified == 1u && app.diag.fit_base_r_ohm == (tv_real_t)4.375 &&
+             app.diag.fit_base_nke_V_s == (tv_real_t)0.625 && app.diag.fit_base_windows == 24u);
+    TV_CHECK(app.diag.r_fit_base_high_frac == (tv_real_t)1.125 && app.diag.gain_fit_base_max == (tv_real_t)0.9375);
+    TV_CHECK_EQ_INT(app_init(&a, &app), TV_OK);
+    TV_CHECK_EQ_INT(parse_with("diag.fit_base_r_ohm = -0.5\n", &cfg, err, sizeof err), TV_ERR_RANGE);
+    TV_CHECK(strstr(err, "diag.fit_base_r_ohm") != NULL);
+    /* not given: no baseline, not learned, the default bounds */
+    TV_CHECK_EQ_INT(parse_with("", &cfg, err, sizeof err), TV_OK);
+    app_config_default(&app);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK(app.diag.fit_base_r_ohm == TV_R(0.0) && app.diag.fit_base_windows == 0u &&
+             app.diag.r_fit_base_high_frac == (tv_real_t)1.10);
     /* crossed ranges given in the file are named; one against a default fails app_init() */
     TV_CHECK_EQ_INT(parse_with("stop_learn.e_min = 1.6\nstop_learn.e_max = 1.2\n", &cfg, err, sizeof err), TV_ERR_CONFIG);
     TV_CHECK(strstr(err, "stop_learn.e_min (1.6) is above stop_learn.e_max (1.2)") != NULL);

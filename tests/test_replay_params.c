@@ -198,6 +198,39 @@ static void test_diag_fit_resistance_bound(void)
     TV_CHECK_EQ_INT(parse("diag.r_fit_high_frac = 3.5\n"), TV_ERR_RANGE);
 }
 
+/* The fit's per-unit baseline (diag.fit_base_*, diag_detect.h): none and not learned by default,
+ * bounds 1.10 and 0.97; set, applied after diag.identified (which leaves them alone), written back;
+ * a negative value, a fractional window count and bounds on the wrong side of 1 are refused; the
+ * baseline needs both values (app_init() refuses R alone). */
+static void test_diag_fit_baseline_keys(void)
+{
+    app_config_t c;
+    static app_t a;
+    char buf[16384];
+    app_config_default(&c);
+    TV_CHECK(c.diag.fit_base_r_ohm == TV_R(0.0) && c.diag.fit_base_nke_V_s == TV_R(0.0) && c.diag.fit_base_windows == 0u);
+    TV_CHECK(c.diag.r_fit_base_high_frac == (tv_real_t)1.10 && c.diag.gain_fit_base_max == (tv_real_t)0.97);
+    TV_CHECK_EQ_INT(parse("diag.identified = 1\ndiag.fit_base_r_ohm = 4.375\ndiag.fit_base_nke_V_s = 0.625\n"
+                          "diag.fit_base_windows = 24\ndiag.r_fit_base_high_frac = 1.125\ndiag.gain_fit_base_max = 0.9375\n"),
+                    TV_OK);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    TV_CHECK(c.diag.identified == 1u && c.diag.fit_base_r_ohm == (tv_real_t)4.375 && c.diag.fit_base_nke_V_s == (tv_real_t)0.625);
+    TV_CHECK(c.diag.fit_base_windows == 24u && c.diag.r_fit_base_high_frac == (tv_real_t)1.125 &&
+             c.diag.gain_fit_base_max == (tv_real_t)0.9375);
+    TV_CHECK_EQ_INT(app_init(&a, &c), TV_OK);
+    c.diag.fit_base_nke_V_s = TV_R(0.0);
+    TV_CHECK_EQ_INT(app_init(&a, &c), TV_ERR_CONFIG);
+    c.diag.fit_base_nke_V_s = (tv_real_t)0.625;
+    TV_CHECK(write_config(&c, buf, sizeof buf) == 0);
+    TV_CHECK(strstr(buf, "\ndiag.fit_base_r_ohm = 4.375 ") != NULL && strstr(buf, "\ndiag.fit_base_nke_V_s = 0.625 ") != NULL);
+    TV_CHECK(strstr(buf, "\ndiag.fit_base_windows = 24 ") != NULL && strstr(buf, "\ndiag.gain_fit_base_max = 0.9375 ") != NULL);
+    TV_CHECK_EQ_INT(parse("diag.fit_base_r_ohm = -1\n"), TV_ERR_RANGE);
+    TV_CHECK(has("p.txt:1: diag.fit_base_r_ohm = -1 is out of range"));
+    TV_CHECK_EQ_INT(parse("diag.fit_base_windows = 2.5\n"), TV_ERR_FORMAT);
+    TV_CHECK_EQ_INT(parse("diag.r_fit_base_high_frac = 1\n"), TV_ERR_RANGE);
+    TV_CHECK_EQ_INT(parse("diag.gain_fit_base_max = 1\n"), TV_ERR_RANGE);
+}
+
 /* The start-up stop learning's contact-law keys (what identify writes to keep an identified law):
  * applied to app_config_t::stop_learn, written back, out-of-range values and the cross-field
  * rules (e_min <= e_max, k_min < k_max) refused naming both keys. */
@@ -329,6 +362,7 @@ int main(void)
     TV_TEST_RUN(test_densities_survive_a_later_model_file);
     TV_TEST_RUN(test_diag_identified_selects_the_unit_model_bounds);
     TV_TEST_RUN(test_diag_fit_resistance_bound);
+    TV_TEST_RUN(test_diag_fit_baseline_keys);
     TV_TEST_RUN(test_stop_learn_keys);
     TV_TEST_RUN(test_unknown_key_is_an_error_naming_file_line_and_key);
     TV_TEST_RUN(test_missing_value_is_an_error);
