@@ -452,7 +452,7 @@ static void test_stops_file_round_trip_and_errors(void)
     TV_CHECK_EQ_INT(lx_config_overlay_model_file(path, &cfg, err, sizeof err), TV_ERR_IO);
     TV_CHECK_EQ_INT(errno, ENOENT);
     TV_CHECK(strstr(err, path) != NULL);
-    TV_CHECK_EQ_INT(lx_config_write_stops(path, -0.0812, 1.4207, 4321.5, 1.3, 691.44, err, sizeof err), TV_OK);
+    TV_CHECK_EQ_INT(lx_config_write_stops(path, -0.0812, 1.4207, 4321.5, 1.3, 691.44, 4.3125, 0.6875, err, sizeof err), TV_OK);
     TV_CHECK(access(tmp, F_OK) != 0); /* renamed away */
     TV_CHECK_EQ_INT(lx_config_overlay_model_file(path, &cfg, err, sizeof err), TV_OK);
     app_config_default(&app);
@@ -462,12 +462,21 @@ static void test_stops_file_round_trip_and_errors(void)
     TV_CHECK_NEAR(app.model.k_stop_Nm_rad, 4321.5, 1e-9);
     TV_CHECK_NEAR(app.model.stop_exponent, 1.3, 1e-12);
     TV_CHECK_NEAR(app.model.d_stop_Nm_s_rad, 691.44, 1e-9);
+    TV_CHECK(app.diag.fit_base_r_ohm == (tv_real_t)4.3125 && app.diag.fit_base_nke_V_s == (tv_real_t)0.6875);
     TV_CHECK_EQ_INT(app_init(&a, &app), TV_OK);
+    /* no baseline yet: its lines are not written */
+    TV_CHECK_EQ_INT(lx_config_write_stops(path, -0.0812, 1.4207, 4321.5, 1.3, 691.44, 0.0, 0.0, err, sizeof err), TV_OK);
+    TV_CHECK_EQ_INT(parse_with("", &cfg, err, sizeof err), TV_OK);
+    TV_CHECK_EQ_INT(lx_config_overlay_model_file(path, &cfg, err, sizeof err), TV_OK);
+    app_config_default(&app);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK(app.diag.fit_base_r_ohm == TV_R(0.0) && app.diag.fit_base_nke_V_s == TV_R(0.0));
+    TV_CHECK_NEAR(app.model.phi_open_rad, 1.4207, 1e-12);
     /* bad contents: named, nothing changed */
     before = cfg;
     TV_CHECK_EQ_INT(lx_config_overlay_model("model.phi_open_rad = 1.4\nrt.priority = 3\n", "stops", &cfg, err, sizeof err),
                     TV_ERR_FORMAT);
-    TV_CHECK(strstr(err, "stops:2") != NULL && strstr(err, "model.* keys only") != NULL);
+    TV_CHECK(strstr(err, "stops:2") != NULL && strstr(err, "model.* keys and the fit's baseline only") != NULL);
     TV_CHECK(memcmp(&before, &cfg, sizeof cfg) == 0);
     TV_CHECK_EQ_INT(lx_config_overlay_model("model.phi_open_rad = 1.4\nmodel.phi_open_rad = 1.41\n", "stops", &cfg, err,
                                             sizeof err),
@@ -477,7 +486,7 @@ static void test_stops_file_round_trip_and_errors(void)
     TV_CHECK(strstr(err, "stops:1") != NULL && strstr(err, "model.phi_closed_rad") != NULL);
     TV_CHECK(memcmp(&before, &cfg, sizeof cfg) == 0);
     /* a non-finite value is not written: the old file stays */
-    TV_CHECK_EQ_INT(lx_config_write_stops(path, (double)NAN, 1.4, 1.0, 1.0, 1.0, err, sizeof err), TV_ERR_NONFINITE);
+    TV_CHECK_EQ_INT(lx_config_write_stops(path, (double)NAN, 1.4, 1.0, 1.0, 1.0, 0.0, 0.0, err, sizeof err), TV_ERR_NONFINITE);
     f = fopen(path, "r");
     TV_CHECK(f != NULL);
     if (f != NULL) {
@@ -490,7 +499,7 @@ static void test_stops_file_round_trip_and_errors(void)
         TV_CHECK_EQ_INT(found, 1);
     }
     /* an unwritable place is an error that names the file */
-    TV_CHECK_EQ_INT(lx_config_write_stops("/nonexistent_dir_tv/stops.params", -0.1, 1.4, 1.0, 1.0, 1.0, err, sizeof err),
+    TV_CHECK_EQ_INT(lx_config_write_stops("/nonexistent_dir_tv/stops.params", -0.1, 1.4, 1.0, 1.0, 1.0, 0.0, 0.0, err, sizeof err),
                     TV_ERR_IO);
     TV_CHECK(strstr(err, "/nonexistent_dir_tv/stops.params") != NULL);
     (void)remove(path);

@@ -418,7 +418,8 @@ static int check_conflicts(const lx_config_t *cfg, const char *name, char *err, 
 }
 
 /* The lines of a configuration text into cfg (not reset); seen[] marks the keys given. With
- * model_only, only "model." keys are allowed (an overlay, lx_config_overlay_model()). */
+ * model_only, only "model." keys and the fit's baseline (diag.fit_base_r_ohm, diag.fit_base_nke_V_s)
+ * are allowed (an overlay, lx_config_overlay_model(): the stops file). */
 static int parse_lines(const char *text, const char *name, lx_config_t *cfg, unsigned char seen[N_KEYS], int model_only,
                        char *err, size_t err_len)
 {
@@ -483,8 +484,10 @@ static int parse_lines(const char *text, const char *name, lx_config_t *cfg, uns
             lx_err_set(err, err_len, "%s:%u: unknown key '%s'", name, line_no, key);
             return TV_ERR_FORMAT;
         }
-        if (model_only && strncmp(key, "model.", 6u) != 0) {
-            lx_err_set(err, err_len, "%s:%u: key '%s' is not allowed here (model.* keys only)", name, line_no, key);
+        if (model_only && strncmp(key, "model.", 6u) != 0 && strcmp(key, "diag.fit_base_r_ohm") != 0 &&
+            strcmp(key, "diag.fit_base_nke_V_s") != 0) {
+            lx_err_set(err, err_len, "%s:%u: key '%s' is not allowed here (model.* keys and the fit's baseline only)", name,
+                       line_no, key);
             return TV_ERR_FORMAT;
         }
         if (seen[i]) {
@@ -613,7 +616,8 @@ int lx_config_overlay_model_file(const char *path, lx_config_t *cfg, char *err, 
 }
 
 int lx_config_write_stops(const char *path, double phi_closed_rad, double phi_open_rad, double k_stop,
-                          double stop_exponent, double d_stop, char *err, size_t err_len)
+                          double stop_exponent, double d_stop, double fit_base_r_ohm, double fit_base_nke_V_s, char *err,
+                          size_t err_len)
 {
     char tmp[LX_PATH_LEN + 8];
     FILE *f;
@@ -642,6 +646,12 @@ int lx_config_write_stops(const char *path, double phi_closed_rad, double phi_op
                  "model.phi_closed_rad = %.9g\nmodel.phi_open_rad = %.9g\nmodel.k_stop_Nm_rad = %.9g\n"
                  "model.stop_exponent = %.9g\nmodel.d_stop_Nm_s_rad = %.9g\n",
                  phi_closed_rad, phi_open_rad, k_stop, stop_exponent, d_stop) > 0;
+    if (ok && fit_base_r_ohm > 0.0 && fit_base_nke_V_s > 0.0 && isfinite(fit_base_r_ohm) && isfinite(fit_base_nke_V_s)) {
+        ok = fprintf(f,
+                     "# the voltage equation's fit's per-unit baseline (learned healthy: diag.fit_base_windows)\n"
+                     "diag.fit_base_r_ohm = %.9g\ndiag.fit_base_nke_V_s = %.9g\n",
+                     fit_base_r_ohm, fit_base_nke_V_s) > 0;
+    }
     ok = ok && fflush(f) == 0 && fsync(fileno(f)) == 0;
     if (fclose(f) != 0) {
         ok = 0;

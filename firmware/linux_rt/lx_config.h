@@ -137,12 +137,15 @@ int lx_config_overlay_model(const char *text, const char *name, lx_config_t *cfg
 
 /**
  * Write the stops file: model.phi_closed_rad, model.phi_open_rad, model.k_stop_Nm_rad,
- * model.stop_exponent, model.d_stop_Nm_s_rad (%.9g), to path + ".tmp", flushed and synced, then
- * renamed over path, so a crash leaves the old file or the new one, never half of one.
+ * model.stop_exponent, model.d_stop_Nm_s_rad (%.9g), and the fit's per-unit baseline
+ * diag.fit_base_r_ohm, diag.fit_base_nke_V_s when both are positive (0: none yet, not written), to
+ * path + ".tmp", flushed and synced, then renamed over path, so a crash leaves the old file or the
+ * new one, never half of one.
  * @return TV_OK; TV_ERR_NONFINITE; TV_ERR_IO (err names the file and the reason).
  */
 int lx_config_write_stops(const char *path, double phi_closed_rad, double phi_open_rad, double k_stop,
-                          double stop_exponent, double d_stop, char *err, size_t err_len);
+                          double stop_exponent, double d_stop, double fit_base_r_ohm, double fit_base_nke_V_s, char *err,
+                          size_t err_len);
 
 #ifdef __cplusplus
 }

@@ -237,13 +237,19 @@ int main(int argc, char **argv)
         exit_code = 3;
     }
     if (cfg.app_stops_file[0] != '\0') {
-        /* the stops in use now (learned, then tracked in service) for the next start */
+        /* the stops in use now (learned, then tracked in service), and the fit's baseline when there
+         * is one (given or learned), for the next start */
         const tvm_params_t *mp = &s_ctl.app.ekf.model.p;
         if (lx_config_write_stops(cfg.app_stops_file, (double)mp->phi_closed_rad, (double)mp->phi_open_rad,
-                                  (double)mp->k_stop_Nm_rad, (double)mp->stop_exponent, (double)mp->d_stop_Nm_s_rad, err,
+                                  (double)mp->k_stop_Nm_rad, (double)mp->stop_exponent, (double)mp->d_stop_Nm_s_rad,
+                                  (double)s_ctl.app.fit_base_r_ohm, (double)s_ctl.app.fit_base_nke_V_s, err,
                                   sizeof err) == TV_OK) {
             printf("throttle_linux: stops written to %s (closed %.5f rad, open %.5f rad)\n", cfg.app_stops_file,
                    (double)mp->phi_closed_rad, (double)mp->phi_open_rad);
+            if (s_ctl.app.fit_base_r_ohm > TV_R(0.0)) {
+                printf("throttle_linux: the fit's baseline written there too (R %.5g ohm at 20 degC, n Ke %.5g V s/rad)\n",
+                       (double)s_ctl.app.fit_base_r_ohm, (double)s_ctl.app.fit_base_nke_V_s);
+            }
         } else {
             fprintf(stderr, "throttle_linux: %s\n", err);
             exit_code = exit_code == 0 ? 1 : exit_code;

@@ -89,6 +89,11 @@ static int write_learned_params(const char *path, const sim_options_t *opt, cons
     (void)sim_apply_stop_learning(r, &cfg);
     cfg.model.phi_closed_rad = (tv_real_t)r->stop_onset_rad[0];
     cfg.model.phi_open_rad = (tv_real_t)r->stop_onset_rad[1];
+    if (isfinite(r->fit_base_r_ohm) && isfinite(r->fit_base_nke_V_s)) {
+        /* the fit's per-unit baseline in force at the end (given, or learned: diag.fit_base_windows) */
+        cfg.diag.fit_base_r_ohm = (tv_real_t)r->fit_base_r_ohm;
+        cfg.diag.fit_base_nke_V_s = (tv_real_t)r->fit_base_nke_V_s;
+    }
     f = fopen(path, "w");
     if (f == NULL) {
         fprintf(stderr, "%s: cannot write %s: %s\n", s_prog, path, strerror(errno));
@@ -99,8 +104,9 @@ static int write_learned_params(const char *path, const sim_options_t *opt, cons
         fprintf(stderr, "%s: write error on %s\n", s_prog, path);
         return -1;
     }
-    fprintf(stderr, "wrote %s (stops %.5f / %.5f rad%s)\n", path, r->stop_onset_rad[0], r->stop_onset_rad[1],
-            r->stop_learn_phase == (int)SL_DONE ? ", the learned contact law" : "");
+    fprintf(stderr, "wrote %s (stops %.5f / %.5f rad%s%s)\n", path, r->stop_onset_rad[0], r->stop_onset_rad[1],
+            r->stop_learn_phase == (int)SL_DONE ? ", the learned contact law" : "",
+            isfinite(r->fit_base_r_ohm) ? ", the fit's baseline" : "");
     return 0;
 }
 
@@ -182,8 +188,10 @@ static void usage(FILE *f)
             "                    t_us,status,fault_class,dtc, status pending|confirmed|healed\n"
             "  --params-out FILE after the run, write the filter's parameter file with what it\n"
             "                    learned: the stops in use (start-up routine, online tracking)\n"
-            "                    and, after stop_learn, the contact law (the host's persistence;\n"
-            "                    --params FILE reads it back)\n"
+            "                    and, after stop_learn, the contact law; the fit's per-unit\n"
+            "                    baseline when there is one (diag.fit_base_*: learned with\n"
+            "                    diag.fit_base_windows > 0 and --temp-reading) (the host's\n"
+            "                    persistence; --params FILE reads it back)\n"
             "Outputs: DIR/<scenario>.csv, DIR/<scenario>_metrics.txt, DIR/<scenario>_metrics.json.\n"
             "Exit codes: 0 ok; 1 run or I/O failure; 2 usage error; 3 parameter file invalid.\n");
 }
