@@ -350,6 +350,22 @@ def main():
     check(value(learned, "model.stop_exponent") >= 1.0, "host_sim --params-out: the learned contact law (Hunt-Crossley)")
     expect([exe("host_sim"), "--scenario", "open_steps", "--duration", "0.5", "--unit", "1005", "--spread", "stops",
             "--params", path("learned.params"), "--out", path("sl2")], 0)
+    # the fit's per-unit baseline: learned in 30 s of driving with the temperature told, written with
+    # the stops, within 1 % (R at 20 degC) and 1.5 % (n Ke) of the unit's; not without the temperature
+    write("learn_base.params", "diag.fit_base_windows = 16\n")
+    expect([exe("host_sim"), "--scenario", "drive", "--duration", "30", "--unit", "1005", "--spread", "all",
+            "--temp-reading", "plant", "--params", path("learn_base.params"), "--out", path("fb"),
+            "--params-out", path("base.params")], 0, "the fit's baseline")
+    plant_all = expect([exe("host_sim"), "--unit", "1005", "--spread", "all", "--print-plant-params"], 0)[0].decode()
+    base = open(path("base.params")).read()
+    r_rel = value(base, "diag.fit_base_r_ohm") / value(plant_all, "plant.R_ohm")
+    k_rel = value(base, "diag.fit_base_nke_V_s") / (value(plant_all, "plant.n_gear") * value(plant_all, "plant.Ke_V_s_rad"))
+    check(abs(r_rel - 1.0) < 0.01 and abs(k_rel - 1.0) < 0.015,
+          "host_sim --params-out: the learned baseline's R %.4f and n Ke %.4f of the unit's" % (r_rel, k_rel))
+    expect([exe("host_sim"), "--scenario", "drive", "--duration", "30", "--unit", "1005", "--spread", "all",
+            "--params", path("learn_base.params"), "--out", path("fb0"), "--params-out", path("base0.params")], 0)
+    check(value(open(path("base0.params")).read(), "diag.fit_base_r_ohm") == 0.0,
+          "host_sim --params-out: no baseline learned with the winding's temperature unknown")
 
     # --- fault injection and diagnostic events (issue 12): host_sim --fault / --events, replay --events
     expect([exe("host_sim"), "--fault", "tps1_offset:1"], 2, "option --fault", "no '@'")
