@@ -2904,7 +2904,7 @@ static void test_fit_resistance(void)
 
 /* The fit against a per-unit baseline (base = 1: the ratios are the fit's over the baseline's):
  * P2101 from three windows in a row above r_fit_base_high_frac (1.10) rather than 1.25; P1A04
- * (a current gain: R down, n Ke intact) from three windows in a row below gain_fit_base_max (0.97)
+ * (a current gain: R down, n Ke intact) from five windows in a row below gain_fit_base_max (0.97)
  * with n Ke above ke_short_max, failed by the resistance check at each driven step (6 confirm),
  * the freeze frame holding the fit's ratio. Not with n Ke down as well (shorted turns), nor
  * without a baseline, nor with the temperature unknown, nor at the bounds; the open winding's
@@ -2941,11 +2941,14 @@ static void test_fit_baseline(void)
     static diag_detect_t dd;
     static const tv_real_t high[3] = {TV_R(1.12), TV_R(1.15), TV_R(1.11)};
     static const tv_real_t at_high[3] = {TV_R(1.10), TV_R(1.10), TV_R(1.10)};
-    static const tv_real_t gain[3] = {TV_R(0.955), TV_R(0.96), TV_R(0.95)};
-    static const tv_real_t gain_two[3] = {TV_R(0.955), TV_R(0.96), TV_R(0.99)};
-    static const tv_real_t at_low[3] = {TV_R(0.97), TV_R(0.97), TV_R(0.97)};
-    static const tv_real_t ke_ok[3] = {TV_R(1.0), TV_R(0.99), TV_R(1.01)};
-    static const tv_real_t ke_short[3] = {TV_R(0.8), TV_R(0.8), TV_R(0.8)};
+    static const tv_real_t gain[5] = {TV_R(0.955), TV_R(0.96), TV_R(0.95), TV_R(0.955), TV_R(0.95)};
+    static const tv_real_t gain_four[5] = {TV_R(0.955), TV_R(0.96), TV_R(0.95), TV_R(0.955), TV_R(0.99)};
+    static const tv_real_t at_low[5] = {TV_R(0.97), TV_R(0.97), TV_R(0.97), TV_R(0.97), TV_R(0.97)};
+    static const tv_real_t ke_ok[5] = {TV_R(1.0), TV_R(0.99), TV_R(1.01), TV_R(1.0), TV_R(1.0)};
+    static const tv_real_t ke_short[5] = {TV_R(0.8), TV_R(0.8), TV_R(0.8), TV_R(0.8), TV_R(0.8)};
+    /* the windows across the onset of shorted turns: R down first, n Ke after (then both) */
+    static const tv_real_t r_onset[5] = {TV_R(0.96), TV_R(0.93), TV_R(0.9), TV_R(0.85), TV_R(0.8)};
+    static const tv_real_t ke_onset[5] = {TV_R(0.99), TV_R(0.97), TV_R(0.93), TV_R(0.88), TV_R(0.81)};
     diag_detect_config_t cfg;
     diag_detect_config_default(&cfg);
     TV_CHECK_NEAR(cfg.r_fit_base_high_frac, 1.10, 1e-6);
@@ -2956,17 +2959,21 @@ static void test_fit_baseline(void)
     TV_CHECK_NEAR(d.code[DIAG_DTC_P2101].freeze.value, 1.11, 1e-6);
     TV_CHECK_EQ_INT(fit_base_case(at_high, ke_ok, 3, 1, 1, 0, &d, &dd), 0);
     TV_CHECK_EQ_INT(fit_base_case(high, ke_ok, 3, 0, 1, 0, &d, &dd), 0);
-    /* P1A04: a gain, R below 0.97 of the baseline with n Ke intact: 6 failing steps confirm */
-    TV_CHECK_EQ_INT(fit_base_case(gain, ke_ok, 3, 1, 1, 1, &d, &dd), 6);
+    /* P1A04: a gain, R below 0.97 of the baseline with n Ke intact in 5 windows in a row: 6
+     * failing steps confirm */
+    TV_CHECK_EQ_INT(DIAG_R_FIT_LOW_WINDOWS, 5);
+    TV_CHECK_EQ_INT(fit_base_case(gain, ke_ok, 5, 1, 1, 1, &d, &dd), 6);
     TV_CHECK_NEAR(d.code[DIAG_DTC_P1A04].freeze.value, 0.95, 1e-6);
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P2101) && !diag_confirmed(&d, DIAG_DTC_P2101));
-    TV_CHECK_EQ_INT(fit_base_case(gain_two, ke_ok, 3, 1, 1, 1, &d, &dd), 0); /* two, then one back */
-    TV_CHECK_EQ_INT(fit_base_case(at_low, ke_ok, 3, 1, 1, 1, &d, &dd), 0);   /* below, not at */
-    TV_CHECK_EQ_INT(fit_base_case(gain, ke_short, 3, 1, 1, 1, &d, &dd), 0);  /* shorted turns */
-    TV_CHECK_EQ_INT(fit_base_case(gain, ke_ok, 3, 0, 1, 1, &d, &dd), 0);     /* no baseline */
-    TV_CHECK_EQ_INT(fit_base_case(gain, ke_ok, 3, 1, 0, 1, &d, &dd), 0);     /* temperature unknown */
+    TV_CHECK_EQ_INT(fit_base_case(gain, ke_ok, 4, 1, 1, 1, &d, &dd), 0);      /* four */
+    TV_CHECK_EQ_INT(fit_base_case(gain_four, ke_ok, 5, 1, 1, 1, &d, &dd), 0); /* four, then one back */
+    TV_CHECK_EQ_INT(fit_base_case(at_low, ke_ok, 5, 1, 1, 1, &d, &dd), 0);    /* below, not at */
+    TV_CHECK_EQ_INT(fit_base_case(gain, ke_short, 5, 1, 1, 1, &d, &dd), 0);   /* shorted turns */
+    TV_CHECK_EQ_INT(fit_base_case(r_onset, ke_onset, 5, 1, 1, 1, &d, &dd), 0); /* ... across their onset */
+    TV_CHECK_EQ_INT(fit_base_case(gain, ke_ok, 5, 0, 1, 1, &d, &dd), 0);      /* no baseline */
+    TV_CHECK_EQ_INT(fit_base_case(gain, ke_ok, 5, 1, 0, 1, &d, &dd), 0);      /* temperature unknown */
     /* the open winding's code pending clears the gain's count */
-    (void)fit_base_case(gain, ke_ok, 3, 1, 1, 1, &d, &dd);
+    (void)fit_base_case(gain, ke_ok, 5, 1, 1, 1, &d, &dd);
     {
         diag_snapshot_t snap;
         memset(&snap, 0, sizeof snap);

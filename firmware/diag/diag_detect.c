@@ -487,7 +487,7 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
      * estimator's R + dR not passing it meanwhile (with the preload or the friction down as well,
      * the current sensor reads too little: no verdict, as below) */
     fit_high = temp_known && dd->r_fit_high_n >= DIAG_R_FIT_HIGH_WINDOWS && !dd->mech_low;
-    if (temp_known && dd->r_fit_low_n >= DIAG_R_FIT_HIGH_WINDOWS) {
+    if (temp_known && dd->r_fit_low_n >= DIAG_R_FIT_LOW_WINDOWS) {
         /* the fit's R below the unit's baseline with its n Ke intact: a current-sensor gain
          * (diag_fit_resistance_check()) */
         (void)diag_report(d, DIAG_DTC_P1A04, DIAG_FAIL, snap, dd->r_fit_ratio);
@@ -575,12 +575,12 @@ void diag_backemf_check(diag_detect_t *dd, const diag_t *d, tv_real_t r_ratio, t
     }
 }
 
-/* One more window in a row for a saturating count when cond holds, else none. */
-static void count_windows(uint8_t *n, int cond)
+/* One more window in a row for a count saturating at max when cond holds, else none. */
+static void count_windows(uint8_t *n, int cond, uint8_t max)
 {
     if (!cond) {
         *n = 0u;
-    } else if (*n < DIAG_R_FIT_HIGH_WINDOWS) {
+    } else if (*n < max) {
         ++*n;
     }
 }
@@ -600,14 +600,16 @@ void diag_fit_resistance_check(diag_detect_t *dd, const diag_t *d, int active, t
         dd->r_fit_low_n = 0u;
     } else {
         dd->r_fit_ratio = r_ratio;
-        count_windows(&dd->r_fit_low_n, r_ratio < dd->cfg.gain_fit_base_max && ke_ratio > dd->cfg.ke_short_max);
+        count_windows(&dd->r_fit_low_n, r_ratio < dd->cfg.gain_fit_base_max && ke_ratio > dd->cfg.ke_short_max,
+                      (uint8_t)DIAG_R_FIT_LOW_WINDOWS);
     }
     if (!active || !TV_IS_FINITE(r_ratio) || any_active(d, other, sizeof other / sizeof other[0])) {
         dd->r_fit_high_n = 0u;
         return;
     }
     dd->r_fit_ratio = r_ratio;
-    count_windows(&dd->r_fit_high_n, r_ratio > (base ? dd->cfg.r_fit_base_high_frac : dd->cfg.r_fit_high_frac));
+    count_windows(&dd->r_fit_high_n, r_ratio > (base ? dd->cfg.r_fit_base_high_frac : dd->cfg.r_fit_high_frac),
+                  (uint8_t)DIAG_R_FIT_HIGH_WINDOWS);
 }
 
 void diag_isens_fit_check(diag_t *d, const diag_detect_t *dd, tv_real_t offset_A, tv_real_t vif, const diag_snapshot_t *snap)

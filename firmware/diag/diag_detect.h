@@ -573,7 +573,7 @@ typedef struct {
     tv_real_t gain_fit_base_max;  /**< with a baseline: P1A04 (a current-sensor gain above 1, which divides
                                        the fit's R and leaves its n Ke) when the fit's R reads below this
                                        times the baseline's, with n Ke above ke_short_max of the baseline's,
-                                       in DIAG_R_FIT_HIGH_WINDOWS windows in a row [-], (0, 1); default 0.97 */
+                                       in DIAG_R_FIT_LOW_WINDOWS windows in a row [-], (0, 1); default 0.97 */
 } diag_detect_config_t;
 
 /** A spring probe reading: the signature's samples of one direction regressed on the model's
@@ -672,7 +672,7 @@ typedef struct {
     tv_real_t r_fit_ratio; /**< the fit's R over the model's in the last window judged [-] (P2101's
                                 freeze value while the fit fails it) */
     uint8_t r_fit_low_n;   /**< with a baseline: windows in a row whose R read below gain_fit_base_max of it
-                                with n Ke as it was (saturating at DIAG_R_FIT_HIGH_WINDOWS) */
+                                with n Ke as it was (saturating at DIAG_R_FIT_LOW_WINDOWS) */
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint16_t offset_sig_n; /**< mechanics checks in a row that read the offset signature (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
@@ -833,6 +833,12 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
  * drive: a single window's R is off by up to a few per cent on healthy units). */
 #define DIAG_R_FIT_HIGH_WINDOWS 3u
 
+/** Windows in a row of the fit's resistance that read a current gain against the unit's baseline:
+ * one more than the fit's blocks per window (volt_fit.c's default 4), so that the run always holds a
+ * window wholly after an onset. The windows across the onset of shorted turns read R down before
+ * their n Ke follows (20 % of the turns: P1A04 after 0.58 s in 16 fault-matrix runs with 3). */
+#define DIAG_R_FIT_LOW_WINDOWS 5u
+
 /**
  * The fit's resistance check (P2101): one window of the voltage equation's fit (volt_fit.h), called
  * when the fit takes one. DIAG_R_FIT_HIGH_WINDOWS windows in a row whose R reads above
@@ -845,7 +851,7 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
  * bridge or current-sensor code (P2100, P1A03, P1A04) is pending or confirmed (an offset of the
  * current sensor moves the fit's R: the fit's offset check names it first).
  * With a per-unit baseline (base 1: r_ratio and ke_ratio are relative to it) the bound is
- * r_fit_base_high_frac, and DIAG_R_FIT_HIGH_WINDOWS windows in a row whose R reads below
+ * r_fit_base_high_frac, and DIAG_R_FIT_LOW_WINDOWS windows in a row whose R reads below
  * gain_fit_base_max with n Ke above ke_short_max read a current-sensor gain: the resistance check
  * then fails P1A04 at each driven step until a window reads otherwise.
  * @param active   1 when the window was the model in service with the winding's temperature known

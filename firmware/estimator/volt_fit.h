@@ -80,12 +80,12 @@ extern "C" {
 
 /** Configuration. */
 typedef struct {
-    uint16_t block;           /**< driven periods per block, 100..VFIT_BLOCK_MAX (default 1000: 1 s of drive) */
-    uint8_t blocks;           /**< blocks per window, 1..VFIT_BLOCKS_MAX (default 3) */
+    uint16_t block;           /**< driven periods per block, 100..VFIT_BLOCK_MAX (default 250: 0.25 s of drive) */
+    uint8_t blocks;           /**< blocks per window, 1..VFIT_BLOCKS_MAX (default 4) */
     tv_real_t u_min_V;        /**< a period is driven when |u| >= this [V], >= 0 (default 0.5) */
     tv_real_t rho2_max;       /**< a window is taken when the squared correlation of current and velocity
                                    is at most this [-], (0, 1) (default 0.98) */
-    tv_real_t corr_periods;   /**< the residuals' correlation length [periods], >= 1 (default 30) */
+    tv_real_t corr_periods;   /**< the residuals' correlation length [periods], >= 1 (default 36) */
 } vfit_config_t;
 
 /** State and the last window's result. */
@@ -113,7 +113,7 @@ typedef struct {
                                    when current and velocity barely vary about their means (a slow ramp) */
 } vfit_t;
 
-/** Defaults: block 1000, blocks 3, u_min_V 0.5, rho2_max 0.98, corr_periods 30. */
+/** Defaults: block 250, blocks 4, u_min_V 0.5, rho2_max 0.98, corr_periods 36. */
 void vfit_config_default(vfit_config_t *cfg);
 
 /**
