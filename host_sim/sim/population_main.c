@@ -144,6 +144,22 @@ static void pop_options_default(sim_options_t *opt)
     opt->temp_reading = cli_temp_told(&s_temps, &opt->temp_reading_C);
 }
 
+/* The options of a unit's run before the scored ones (stop learning, identification, the fit's
+ * baseline): pop_options_default() with the scenario, its length (<= 0: the scenario's own), the
+ * plant noise seed, the unit and its configuration. */
+static void pre_options(sim_options_t *opt, sim_scenario_t scn, double duration_s, uint64_t seed, const plant_config_t *pc,
+                        const app_config_t *ac)
+{
+    pop_options_default(opt);
+    opt->scenario = scn;
+    if (duration_s > 0.0) {
+        opt->duration_s = duration_s;
+    }
+    opt->seed = seed;
+    opt->plant = pc;
+    opt->app = ac;
+}
+
 static double max_finite(double a, double b)
 {
     return !isfinite(a) || b > a ? b : a;
@@ -201,18 +217,13 @@ static int learn_fit_base(const plant_config_t *pc, app_config_t *ac, uint64_t u
     int rc;
     lc = *ac;
     lc.diag.fit_base_windows = POP_BASE_WINDOWS;
-    pop_options_default(&opt);
+    pre_options(&opt, SIM_SCN_DRIVE, POP_BASE_S, POP_BASE_SEED, pc, &lc);
     /* at a cold start: the winding at the ambient temperature the ECU knows (20 degC, told exactly),
      * whatever the scored runs' temperature and reading (so a reading's error there is not
      * learned into the baseline, where it would cancel) */
     opt.winding_temp_C = POP_BASE_TEMP_C;
     opt.temp_reading = 1;
     opt.temp_reading_C = POP_BASE_TEMP_C;
-    opt.scenario = SIM_SCN_DRIVE;
-    opt.duration_s = POP_BASE_S;
-    opt.seed = POP_BASE_SEED;
-    opt.plant = pc;
-    opt.app = &lc;
     rc = sim_run(&opt, &r);
     if (rc != TV_OK) {
         return rc;
@@ -275,12 +286,7 @@ static int identify_unit(const plant_config_t *pc, app_config_t *ac, uint64_t un
     size_t n;
     int rc;
     g.n = 0u;
-    pop_options_default(&opt);
-    opt.scenario = SIM_SCN_IDENT;
-    opt.duration_s = POP_IDENT_S;
-    opt.seed = POP_IDENT_SEED;
-    opt.plant = pc;
-    opt.app = ac;
+    pre_options(&opt, SIM_SCN_IDENT, POP_IDENT_S, POP_IDENT_SEED, pc, ac);
     opt.row_fn = ident_row;
     opt.row_user = &g;
     rc = sim_run(&opt, &r);
