@@ -700,7 +700,6 @@ static void fit_base_learn(app_t *app)
 
 /* After the control law: the action of the confirmed codes on the outputs, then the jam check
  * on what is really applied (a plate the bridge no longer drives is not judged). */
-
 static void app_diag_post(app_t *app, const diag_snapshot_t *snap, app_output_t *out, int tq_ok, tv_real_t w_pred)
 {
     const app_control_t *c = &app->cfg.control;
