@@ -6,7 +6,9 @@
 # population's evaluation units of three sections (stops_varied: the filter knows the unit's motor,
 # friction and spring; all_varied: every parameter spread, the filter on its class's defaults;
 # all_varied_identified: the same units, the filter on the parameters identify found in each
-# unit's healthy end-of-line log, diag.identified = 1)
+# unit's healthy end-of-line log, diag.identified = 1; the stops_varied and all_varied units with
+# the voltage equation's fit's per-unit baseline learned in 30 s of healthy driving,
+# population --fit-baseline on, README "A per-unit baseline of the fit")
 # x noise seeds, the fault injected at ONSET s into runs of DURATION s, every unit's winding at
 # 20 degC and the application told so (--temp-reading plant: the CAN command's WindingTemp, so
 # an identified unit's resistance bound is 1.15 R, firmware/diag/diag_detect.h); the same runs
@@ -19,8 +21,8 @@
 #
 #   usage: tools/run_fault_matrix.sh [--quick | --full] [--plants N] [--seeds S] [--soak-duration S]
 #                                    [--current-duration S] [--no-soak | --soak-from JSON] [--jobs J]
-#   default  10 units per section, 1 seed, 8 s runs: 150 runs per fault spec, 41 specs (6,300 runs),
-#            and the soak (2,430 runs x 70 s = 170,100 s); about 20-25 minutes on 2 cores
+#   default  10 units per section, 1 seed, 8 s runs: 150 runs per fault spec, 43 specs (6,450 runs),
+#            and the soak (2,430 runs x 70 s = 170,100 s); about 45 minutes on 2 cores
 #   --current-duration S  the current-sensor specs (current_offset, current_gain) run S s
 #            (default 30): P1A04's in-service check judges windows of 500 samples at small
 #            current and confirms at the sixth, about 10 s of driving; the other faults run
