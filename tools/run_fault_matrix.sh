@@ -22,7 +22,7 @@
 #   usage: tools/run_fault_matrix.sh [--quick | --full] [--plants N] [--seeds S] [--soak-duration S]
 #                                    [--current-duration S] [--no-soak | --soak-from JSON] [--jobs J]
 #   default  10 units per section, 1 seed, 8 s runs: 150 runs per fault spec, 43 specs (6,450 runs),
-#            and the soak (2,430 runs x 70 s = 170,100 s); about 45 minutes on 2 cores
+#            and the soak (2,430 runs x 70 s = 170,100 s); about 30 minutes on 2 cores
 #   --current-duration S  the current-sensor specs (current_offset, current_gain) run S s
 #            (default 30): P1A04's in-service check judges windows of 500 samples at small
 #            current and confirms at the sixth, about 10 s of driving; the other faults run
