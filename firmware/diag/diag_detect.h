@@ -836,7 +836,8 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
 /** Windows in a row of the fit's resistance that read a current gain against the unit's baseline:
  * one more than the fit's blocks per window (volt_fit.c's default 4), so that the run always holds a
  * window wholly after an onset. The windows across the onset of shorted turns read R down before
- * their n Ke follows (20 % of the turns: P1A04 after 0.58 s in 16 fault-matrix runs with 3). */
+ * their n Ke follows (20 % of the turns: P1A04 first, about 0.6 s after the onset, in 23 of the
+ * fault matrix's 150 runs with 3). */
 #define DIAG_R_FIT_LOW_WINDOWS 5u
 
 /**
