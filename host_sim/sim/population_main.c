@@ -420,7 +420,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--first-seed F] [--scenarios A,B,...]\n"
             "          [--duration S] [--sections LIST] [--params FILE] [--stop-learning on|off]\n"
-            "          [--json PATH] [--runs-csv PATH] [--params-out DIR] [--fault SPEC ...]\n"
+            "          [--fit-baseline on|off] [--json PATH] [--runs-csv PATH] [--params-out DIR] [--fault SPEC ...]\n"
             "          [--winding-temp DEGC] [--temp-reading plant|none|DEGC] [--quick] [--help]\n"
             "\n"
             "Runs the application's estimator (double build) on a population of throttles\n"
