@@ -57,8 +57,18 @@ def synthetic(d):
     soak = os.path.join(d, "soak.json")
     with open(soak, "w") as f:
         json.dump({"runs": 10, "healthy_seconds": 700.0, "false_alarms_healthy": 0}, f)
+    # the healthy runs' population summary with the units' fit baselines (population --fit-baseline on)
+    with open(os.path.join(d, "runs", "healthy.json"), "w") as f:
+        json.dump({"runs": 2, "all_varied_fit_baseline": {"units": 2, "failed": 1, "r_rel_min": 0.9991,
+                                                          "r_rel_max": 1.0012, "nke_rel_min": 0.9950,
+                                                          "nke_rel_max": 0.9978}}, f)
     subprocess.run([sys.executable, SCRIPT, d, soak], check=True, stdout=subprocess.DEVNULL)
     s = json.load(open(os.path.join(d, "summary.json")))
+    check(s["fit_baseline"] == {"all_varied": {"units": 2, "failed": 1, "r_rel_min": 0.9991, "r_rel_max": 1.0012,
+                                               "nke_rel_min": 0.9950, "nke_rel_max": 0.9978}},
+          "the units' fit baselines, from the healthy runs' population summary")
+    check("Fit baseline, all_varied: 2 units, 1 without one; R at 20 degC 0.9991 - 1.0012 of the plant's, n Ke "
+          "0.9950 - 0.9978." in open(os.path.join(d, "matrix.md")).read(), "matrix.md names the fit baselines")
     j = s["classes"]["jam"]
     check(j["runs"] == 5, "5 jam runs")
     check(abs(j["detection_rate"] - 0.8) < 1e-12, "jam detected in 4 of 5 runs")

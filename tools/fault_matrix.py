@@ -38,6 +38,10 @@ Per population section (column "section") the same tallies, per class and over a
 For the faults that change an adapted parameter (winding resistance, friction, spring preload) the
 summary also gives the estimate's relative error at the end of the run, |estimate / true - 1|
 (median and p95), the true value being the plant's in force with the fault.
+"fit_baseline": per section, the units' baselines of the voltage equation's fit as the healthy
+runs' population summary (DIR/runs/healthy.json, population --fit-baseline on) gives them: units,
+failed (none learned), the learned R at 20 degC and n Ke over the plant's, min and max; {} when
+the units ran without one.
 
 usage: fault_matrix.py DIR [SOAK_SUMMARY_JSON]
 """
@@ -271,6 +275,14 @@ def main():
     if len(sys.argv) == 3 and os.path.exists(sys.argv[2]):
         with open(sys.argv[2]) as f:
             soak = json.load(f)
+    # the units' fit baselines (population --fit-baseline on), as the healthy runs' population
+    # summary gives them: per section units, failed, and the learned values over the plant's
+    fit_baseline = {}
+    healthy_json = os.path.join(d, "runs", "healthy.json")
+    if os.path.exists(healthy_json):
+        with open(healthy_json) as f:
+            pop = json.load(f)
+        fit_baseline = {k[:-len("_fit_baseline")]: v for k, v in sorted(pop.items()) if k.endswith("_fit_baseline")}
     total = Tally()
     for t in per_class.values():
         total.merge(t)
@@ -288,6 +300,7 @@ def main():
         "soak_seconds": soak["healthy_seconds"] if soak else 0.0,
         "soak_false_alarms": soak["false_alarms_healthy"] if soak else 0,
         "scenarios": sorted(scenarios),
+        "fit_baseline": fit_baseline,
     }
     summary["false_alarms_healthy"] = healthy_alarms + summary["soak_false_alarms"]
     summary["healthy_seconds"] = healthy_seconds + summary["soak_seconds"]
@@ -369,6 +382,10 @@ def main():
               "total **%d false alarms in %.0f s**." % (
                   healthy_runs, healthy_seconds, healthy_alarms, summary["soak_runs"], summary["soak_seconds"],
                   summary["soak_false_alarms"], summary["false_alarms_healthy"], summary["healthy_seconds"])]
+    for sec, b in fit_baseline.items():
+        lines.append("Fit baseline, %s: %s units, %s without one; R at 20 degC %s - %s of the plant's, n Ke %s - %s." % (
+            sec, b.get("units"), b.get("failed"), fmt(b.get("r_rel_min"), 1, 4), fmt(b.get("r_rel_max"), 1, 4),
+            fmt(b.get("nke_rel_min"), 1, 4), fmt(b.get("nke_rel_max"), 1, 4)))
     text = "\n".join(lines) + "\n"
     with open(os.path.join(d, "matrix.md"), "w") as f:
         f.write(text)
