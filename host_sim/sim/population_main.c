@@ -144,17 +144,15 @@ static void pop_options_default(sim_options_t *opt)
     opt->temp_reading = cli_temp_told(&s_temps, &opt->temp_reading_C);
 }
 
-/* The options of a unit's run before the scored ones (stop learning, identification, the fit's
- * baseline): pop_options_default() with the scenario, its length (<= 0: the scenario's own), the
- * plant noise seed, the unit and its configuration. */
+/* The options of a unit's run before the scored ones (identification, the fit's baseline):
+ * pop_options_default() with the scenario, its length [s], the plant noise seed, the unit and its
+ * configuration. */
 static void pre_options(sim_options_t *opt, sim_scenario_t scn, double duration_s, uint64_t seed, const plant_config_t *pc,
                         const app_config_t *ac)
 {
     pop_options_default(opt);
     opt->scenario = scn;
-    if (duration_s > 0.0) {
-        opt->duration_s = duration_s;
-    }
+    opt->duration_s = duration_s;
     opt->seed = seed;
     opt->plant = pc;
     opt->app = ac;
@@ -163,6 +161,11 @@ static void pre_options(sim_options_t *opt, sim_scenario_t scn, double duration_
 static double max_finite(double a, double b)
 {
     return !isfinite(a) || b > a ? b : a;
+}
+
+static double min_finite(double a, double b)
+{
+    return !isfinite(a) || b < a ? b : a;
 }
 
 /* Run the start-up routine on the unit (seed 1) and put its stops into ac; stats into *l. */
@@ -199,16 +202,11 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
     l->err_open_max = max_finite(l->err_open_max, fabs(r.stop_learn_open_rad - pc->phi_open_rad));
     return sim_apply_stop_learning(&r, ac);
 }
-static double min_finite(double a, double b)
-{
-    return !isfinite(a) || b < a ? b : a;
-}
 
 /* --fit-baseline: learn the fit's per-unit baseline (diag.fit_base_*, README "A per-unit baseline
  * of the fit") in POP_BASE_S of closed-loop driving on the healthy unit (plant noise seed
  * POP_BASE_SEED, outside the scored seeds), as an ECU does in its first minutes of service after a
- * cold start, and put
- * it into ac; stats into *b. A unit whose run learns none keeps the class's checks (counted). */
+ * cold start, and put it into ac; stats into *b. A unit whose run learns none keeps the class's checks (counted). */
 static int learn_fit_base(const plant_config_t *pc, app_config_t *ac, uint64_t unit, pop_base_t *b)
 {
     static app_config_t lc;
