@@ -252,6 +252,12 @@ static void typed_telemetry(const can_proto_telemetry_t *tm, uint8_t counter)
             expect(m->name, "FitBackEmf", (double)tm->fit_nke_V_s);
             expect(m->name, "FitCurrentOffset", (double)tm->fit_i_off_A);
             break;
+        case CAN_PROTO_ID_HEALTH_5:
+            expect(m->name, "FitBaseResistance20", (double)tm->fit_base_r_ohm);
+            expect(m->name, "FitBaseBackEmf", (double)tm->fit_base_nke_V_s);
+            expect(m->name, "FitBaseState", (double)tm->fit_base_state);
+            expect(m->name, "FitBaseWindows", (double)tm->fit_base_windows);
+            break;
         case CAN_PROTO_ID_DIAG:
             expect(m->name, "DtcCount", (double)tm->dtc_count);
             expect(m->name, "LastDtc", (double)tm->last_dtc);
@@ -334,6 +340,10 @@ static void telemetry_sets(void)
     a.fit_r_sigma_ohm = 0.0123f;
     a.fit_nke_V_s = 0.1234f;
     a.fit_i_off_A = -0.0351f;
+    a.fit_base_r_ohm = 4.0567f;
+    a.fit_base_nke_V_s = 0.6512f;
+    a.fit_base_state = 1u;
+    a.fit_base_windows = 3u;
     a.dtc_count = 2u;
     a.last_dtc = 6u;
     a.last_dtc_status = 1u;
@@ -401,6 +411,10 @@ static void telemetry_sets(void)
     a.fit_r_sigma_ohm = 1.02f;
     a.fit_nke_V_s = 2.047f;
     a.fit_i_off_A = 0.2047f;
+    a.fit_base_r_ohm = 16.383f;
+    a.fit_base_nke_V_s = 2.0475f;
+    a.fit_base_state = 2u;
+    a.fit_base_windows = 65535u;
     a.dtc_count = 15u;
     a.last_dtc = CAN_PROTO_DTC_NONE;
     a.last_dtc_status = 2u;

@@ -92,7 +92,8 @@ def check_parser():
 
 
 # frames whose every signal (CRC and Counter aside) must carry a DBC comment
-COMMENTED = ("TV_HEALTH_1", "TV_HEALTH_2", "TV_HEALTH_3", "TV_HEALTH_4", "TV_DIAG", "TV_DIAG_FREEZE")
+COMMENTED = ("TV_HEALTH_1", "TV_HEALTH_2", "TV_HEALTH_3", "TV_HEALTH_4", "TV_HEALTH_5", "TV_DIAG",
+             "TV_DIAG_FREEZE")
 
 
 def check_dtc_tables(dtc, dbc):

@@ -171,6 +171,33 @@ static void test_health_4_frame_bytes_match_documented_layout(void)
     TV_CHECK_EQ_INT(f.data[0], can_proto_crc8(crc_in, sizeof crc_in));
 }
 
+/* The bytes of one TV_HEALTH_5 frame, worked out by hand from the layout in can_proto.h:
+ * FitBaseResistance20 4.1237 ohm / 0.001 = 4123.7 -> 4124 = 0x101C at bits 16..29, FitBaseBackEmf
+ * 0.6543 V s/rad / 0.0005 = 1308.6 -> 1309 = 0x51D at 30..41, FitBaseState 2 at 42..43,
+ * FitBaseWindows 0xABCD at 44..59; bits 12..15 and 60..63 reserved (0). */
+static void test_health_5_frame_bytes_match_documented_layout(void)
+{
+    can_proto_telemetry_t tm;
+    hal_can_frame_t f;
+    uint8_t crc_in[9] = {0x8F, 0x01, 0x06, 0x1C, 0x50, 0x47, 0xD9, 0xBC, 0x0A};
+    memset(&tm, 0, sizeof tm);
+    tm.fit_base_r_ohm = 4.1237f;
+    tm.fit_base_nke_V_s = 0.6543f;
+    tm.fit_base_state = 2u;
+    tm.fit_base_windows = 0xABCDu;
+    TV_CHECK_EQ_INT(can_proto_encode_telemetry(CAN_PROTO_ID_HEALTH_5, &tm, 6u, &f), TV_OK);
+    TV_CHECK_EQ_INT(f.id, 0x18F);
+    TV_CHECK_EQ_INT(f.dlc, 8);
+    TV_CHECK_EQ_INT(f.data[1], 0x06); /* counter 6, reserved bits 12..15 zero */
+    TV_CHECK_EQ_INT(f.data[2], 0x1C); /* R: bits 16..23 */
+    TV_CHECK_EQ_INT(f.data[3], 0x50); /* R's top 6 bits 0x10 | n Ke's low 2 bits (1) << 6 */
+    TV_CHECK_EQ_INT(f.data[4], 0x47); /* n Ke >> 2 = 0x147, its low byte */
+    TV_CHECK_EQ_INT(f.data[5], 0xD9); /* n Ke >> 10 = 1 | state 2 << 2 | the windows' low nibble 0xD << 4 */
+    TV_CHECK_EQ_INT(f.data[6], 0xBC); /* windows >> 4 */
+    TV_CHECK_EQ_INT(f.data[7], 0x0A); /* windows >> 12 = 0xA; bits 60..63 reserved zero */
+    TV_CHECK_EQ_INT(f.data[0], can_proto_crc8(crc_in, sizeof crc_in));
+}
+
 /* Every frame of the table: 11-bit id in the documented block, CRC then Counter first, signals
  * inside the 64 bits and not overlapping. */
 static void test_signal_table_is_consistent(void)
@@ -426,6 +453,10 @@ static void test_telemetry_round_trips_and_saturates(void)
     tm.fit_r_sigma_ohm = 0.0789f;
     tm.fit_nke_V_s = 0.6789f;
     tm.fit_i_off_A = -0.0437f;
+    tm.fit_base_r_ohm = 4.1237f;
+    tm.fit_base_nke_V_s = 0.6543f;
+    tm.fit_base_state = 1u;
+    tm.fit_base_windows = 4321u;
     tm.dtc_count = 3u;
     tm.last_dtc = 7u;
     tm.last_dtc_status = 2u;
@@ -508,6 +539,10 @@ static void test_telemetry_round_trips_and_saturates(void)
     TV_CHECK_NEAR(back.fit_r_sigma_ohm, 0.0789, 0.0005 + 1e-7);
     TV_CHECK_NEAR(back.fit_nke_V_s, 0.6789, 0.00025 + 1e-6);
     TV_CHECK_NEAR(back.fit_i_off_A, -0.0437, 0.00005 + 1e-7);
+    TV_CHECK_NEAR(back.fit_base_r_ohm, 4.1237, 0.0005 + 1e-6);
+    TV_CHECK_NEAR(back.fit_base_nke_V_s, 0.6543, 0.00025 + 1e-6);
+    TV_CHECK_EQ_INT(back.fit_base_state, 1);
+    TV_CHECK_EQ_INT(back.fit_base_windows, 4321);
     TV_CHECK_EQ_INT(back.dtc_mask, 0x0181);
     TV_CHECK_NEAR(back.last_dtc_time_s, 123.4, 1e-4); /* 123.44 s to 0.1 s */
     TV_CHECK_EQ_INT(back.freeze_dtc, 7);
@@ -566,6 +601,31 @@ static void test_telemetry_round_trips_and_saturates(void)
     round_trip(CAN_PROTO_ID_HEALTH_4, &tm, &back);
     TV_CHECK_NEAR(back.fit_r_ohm, 0.0, 0.0);
     TV_CHECK_NEAR(back.fit_i_off_A, 0.0, 0.0);
+    /* the fit's baseline: every field saturating at both ends (the windows' field is as wide as
+     * their count: both ends exactly), NaN sent as 0 */
+    tm.fit_base_r_ohm = 20.0f;
+    tm.fit_base_nke_V_s = 3.0f;
+    tm.fit_base_state = 7u; /* cannot happen; the 2-bit field saturates at 3 */
+    tm.fit_base_windows = 65535u;
+    round_trip(CAN_PROTO_ID_HEALTH_5, &tm, &back);
+    TV_CHECK_NEAR(back.fit_base_r_ohm, 16.383, 1e-5);
+    TV_CHECK_NEAR(back.fit_base_nke_V_s, 2.0475, 1e-6);
+    TV_CHECK_EQ_INT(back.fit_base_state, 3);
+    TV_CHECK_EQ_INT(back.fit_base_windows, 65535);
+    tm.fit_base_r_ohm = -1.0f; /* cannot happen; the unsigned fields saturate at 0 */
+    tm.fit_base_nke_V_s = -1.0f;
+    tm.fit_base_state = 0u;
+    tm.fit_base_windows = 0u;
+    round_trip(CAN_PROTO_ID_HEALTH_5, &tm, &back);
+    TV_CHECK_NEAR(back.fit_base_r_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_base_nke_V_s, 0.0, 0.0);
+    TV_CHECK_EQ_INT(back.fit_base_state, 0);
+    TV_CHECK_EQ_INT(back.fit_base_windows, 0);
+    tm.fit_base_r_ohm = (float)NAN;
+    tm.fit_base_nke_V_s = (float)NAN;
+    round_trip(CAN_PROTO_ID_HEALTH_5, &tm, &back);
+    TV_CHECK_NEAR(back.fit_base_r_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_base_nke_V_s, 0.0, 0.0);
 
     /* saturation at both ends and NaN */
     tm.est[0] = 1e6f;
@@ -941,7 +1001,8 @@ static void test_node_config_validated(void)
 
 /* ---- the node: telemetry schedule --------------------------------------------------------- */
 
-/* Over one second of 1 ms ticks: each frame is sent 1000 / period times, the first at k ms
+/* Over one second of 1 ms ticks: each frame is sent 1000 / period times (TV_HEALTH_5, every
+ * second, once), the first at k ms
  * (staggered; TV_TIME at 0 with TV_EST_STATE, after it in the same tick), with its counter
  * stepping by 1 mod 16; after a 50 ms stall each due frame is sent once, not in a burst. */
 static void test_telemetry_schedule(void)
@@ -980,9 +1041,10 @@ static void test_telemetry_schedule(void)
             const uint8_t c = can_proto_frame_counter(&frames[i]);
             if (count[idx] == 0u) {
                 /* documented offsets: k ms for k <= EKF_STATS, TV_TIME 0, the health and
-                 * diagnostic frames 8, 9, 18, 19 ms, TV_HEALTH_3 28 ms, TV_HEALTH_4 29 ms */
-                static const unsigned first_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u,  4u,  5u,  6u, 7u,
-                                                                  0u, 8u, 9u, 18u, 19u, 28u, 29u};
+                 * diagnostic frames 8, 9, 18, 19 ms, TV_HEALTH_3 28 ms, TV_HEALTH_4 29 ms,
+                 * TV_HEALTH_5 38 ms */
+                static const unsigned first_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u,  3u,  4u,  5u,  6u,  7u,
+                                                                  0u, 8u, 9u, 18u, 19u, 28u, 29u, 38u};
                 TV_CHECK_EQ_INT(t, first_ms[idx] * 1000u);
             } else if (c != (uint8_t)((last_ctr[idx] + 1u) & 15u)) {
                 ctr_ok = 0;
@@ -995,14 +1057,17 @@ static void test_telemetry_schedule(void)
     TV_CHECK(ctr_ok);
     TV_CHECK_EQ_INT(ticks_shared, 0); /* default periods: never two ids in one tick (TV_TIME aside) */
     for (k = 0; k < CAN_PROTO_N_TX; ++k) {
-        const unsigned expect =
-            k == CAN_PROTO_TX_MEAS ? 0u : (k < CAN_PROTO_TX_LOOP || k == CAN_PROTO_TX_TIME ? 100u : 10u);
+        const unsigned expect = k == CAN_PROTO_TX_MEAS      ? 0u
+                                : k == CAN_PROTO_TX_HEALTH_5 ? 1u
+                                : (k < CAN_PROTO_TX_LOOP || k == CAN_PROTO_TX_TIME ? 100u : 10u);
         TV_CHECK_EQ_INT(count[k], expect);
     }
     /* stall: nothing sent for 50 ms, then each enabled frame once */
     {
         const size_t m = can_proto_node_transmit(&n, &app, &out, &loop, 0, 1050000u, frames);
-        /* all enabled frames are overdue (the 100 ms ones were due at 1005..1007 ms) */
+        /* all enabled frames are overdue (the 100 ms ones were due at 1005..1029 ms, TV_HEALTH_5 at
+         * 1038 ms), all in one tick (with TV_MEAS, off here, 16 and the ECU's TV_ECU_CPU: what
+         * the ECU's CAN queue, STM32F4_CAN_QUEUE_LEN = 24, must hold) */
         TV_CHECK_EQ_INT(m, CAN_PROTO_N_TX - 1u);
         TV_CHECK_EQ_INT(can_proto_node_transmit(&n, &app, &out, &loop, 0, 1051000u, frames), 0);
     }
@@ -1013,7 +1078,8 @@ static void test_telemetry_schedule(void)
 static void health_diag_round_trip(const app_t *app, const app_output_t *out, can_proto_telemetry_t *back)
 {
     static const uint32_t ids[] = {CAN_PROTO_ID_HEALTH_1, CAN_PROTO_ID_HEALTH_2, CAN_PROTO_ID_HEALTH_3,
-                                   CAN_PROTO_ID_HEALTH_4, CAN_PROTO_ID_DIAG, CAN_PROTO_ID_DIAG_FREEZE};
+                                   CAN_PROTO_ID_HEALTH_4, CAN_PROTO_ID_HEALTH_5, CAN_PROTO_ID_DIAG,
+                                   CAN_PROTO_ID_DIAG_FREEZE};
     can_proto_telemetry_t tm;
     size_t i;
     memset(&tm, 0, sizeof tm);
@@ -1174,6 +1240,121 @@ static void test_fit_on_health_4(void)
     }
 }
 
+/* Put the application's step at rest with the fit's per-unit baseline as given, learned or being
+ * learned: a configuration with diag.fit_base_windows (learn) or diag.fit_base_r_ohm /
+ * fit_base_nke_V_s (given). */
+static void app_fit_base(app_t *app, uint16_t windows, tv_real_t r_ohm, tv_real_t nke_V_s)
+{
+    app_config_t cfg;
+    app_config_default(&cfg);
+    cfg.diag.open_u_min_V = TV_R(1e3); /* as app_ok() */
+    cfg.diag.jam_u_min_V = TV_R(1e3);
+    cfg.diag.fit_base_windows = windows;
+    cfg.diag.fit_base_r_ohm = r_ohm;
+    cfg.diag.fit_base_nke_V_s = nke_V_s;
+    TV_CHECK_EQ_INT(app_init(app, &cfg), TV_OK);
+}
+
+/* TV_HEALTH_5 carries the fit's per-unit baseline (app_t::fit_base_*) and its state: none and not
+ * learning (the default) all zeros; learning, the windows summed so far (app_t::fit_base_n, put in
+ * here: a step at rest takes no window); learned (the baseline and state put into app_t as
+ * fit_base_learn() does, the count back to 0: test_detect's test_fit_baseline_learned_and_used
+ * learns one for real) and given (the configuration's, from the first step) in force with the
+ * baseline's values; each from the application's output, through the frame, and through the
+ * node's schedule (38 ms after the time base, then every second). */
+static void test_fit_base_on_health_5(void)
+{
+    static app_t app;
+    app_output_t out;
+    can_proto_telemetry_t tm;
+    can_proto_telemetry_t back;
+    /* none, not learning */
+    app_fit_base(&app, 0u, TV_R(0.0), TV_R(0.0));
+    step_at_rest(&app, 0u, &out);
+    TV_CHECK_EQ_INT(out.fit_base_state, APP_FIT_BASE_NONE);
+    TV_CHECK_EQ_INT(out.fit_base_windows, 0);
+    TV_CHECK_NEAR(out.fit_base_r_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(out.fit_base_nke_V_s, 0.0, 0.0);
+    memset(&tm, 0, sizeof tm);
+    can_proto_telemetry_from_app(&app, &out, &tm);
+    memset(&back, 0xA5, sizeof back);
+    round_trip(CAN_PROTO_ID_HEALTH_5, &tm, &back);
+    TV_CHECK_NEAR(back.fit_base_r_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_base_nke_V_s, 0.0, 0.0);
+    TV_CHECK_EQ_INT(back.fit_base_state, 0);
+    TV_CHECK_EQ_INT(back.fit_base_windows, 0);
+    /* learning over 5 windows: none yet, then 3 summed */
+    app_fit_base(&app, 5u, TV_R(0.0), TV_R(0.0));
+    step_at_rest(&app, 0u, &out);
+    TV_CHECK_EQ_INT(out.fit_base_state, APP_FIT_BASE_LEARNING);
+    TV_CHECK_EQ_INT(out.fit_base_windows, 0);
+    app.fit_base_n = 3u;
+    step_at_rest(&app, 1000u, &out);
+    TV_CHECK_EQ_INT(app.fit_base_n, 3); /* at rest: no window taken */
+    TV_CHECK_EQ_INT(out.fit_base_state, APP_FIT_BASE_LEARNING);
+    TV_CHECK_EQ_INT(out.fit_base_windows, 3);
+    TV_CHECK_NEAR(out.fit_base_r_ohm, 0.0, 0.0);
+    memset(&tm, 0, sizeof tm);
+    can_proto_telemetry_from_app(&app, &out, &tm);
+    round_trip(CAN_PROTO_ID_HEALTH_5, &tm, &back);
+    TV_CHECK_EQ_INT(back.fit_base_state, 1);
+    TV_CHECK_EQ_INT(back.fit_base_windows, 3);
+    TV_CHECK_NEAR(back.fit_base_r_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_base_nke_V_s, 0.0, 0.0);
+    /* learned: R 4.1237 ohm at 20 degC, n Ke 0.6543 V s/rad, the count back to 0 */
+    app.fit_base_r_ohm = TV_R(4.1237);
+    app.fit_base_nke_V_s = TV_R(0.6543);
+    app.fit_base_state = (uint8_t)APP_FIT_BASE_IN_FORCE;
+    app.fit_base_n = 0u;
+    step_at_rest(&app, 2000u, &out);
+    TV_CHECK_EQ_INT(out.fit_base_state, APP_FIT_BASE_IN_FORCE);
+    TV_CHECK_EQ_INT(out.fit_base_windows, 0);
+    TV_CHECK_NEAR(out.fit_base_r_ohm, 4.1237, 1e-6);
+    TV_CHECK_NEAR(out.fit_base_nke_V_s, 0.6543, 1e-6);
+    memset(&tm, 0, sizeof tm);
+    can_proto_telemetry_from_app(&app, &out, &tm);
+    round_trip(CAN_PROTO_ID_HEALTH_5, &tm, &back);
+    TV_CHECK_EQ_INT(back.fit_base_state, 2);
+    TV_CHECK_EQ_INT(back.fit_base_windows, 0);
+    TV_CHECK_NEAR(back.fit_base_r_ohm, 4.1237, 0.0005 + 1e-6);
+    TV_CHECK_NEAR(back.fit_base_nke_V_s, 0.6543, 0.00025 + 1e-6);
+    /* given (no learning configured): in force from the first step, and through the node's
+     * schedule: TV_HEALTH_5 at 38 ms after the time base, then a second later */
+    app_fit_base(&app, 0u, TV_R(3.9876), TV_R(0.7012));
+    {
+        can_proto_node_t n;
+        hal_can_frame_t frames[CAN_PROTO_N_TX];
+        can_proto_config_t c;
+        uint64_t t;
+        int seen = 0;
+        can_proto_config_default(&c);
+        TV_CHECK_EQ_INT(c.period_ms[CAN_PROTO_TX_HEALTH_5], 1000);
+        c.cmd_timeout_ms = 0u;
+        TV_CHECK_EQ_INT(can_proto_node_init(&n, &c, &app), TV_OK);
+        for (t = 3000u; t <= 1045000u; t += 1000u) {
+            size_t m;
+            size_t i;
+            step_at_rest(&app, t, &out);
+            TV_CHECK_EQ_INT(out.fit_base_state, APP_FIT_BASE_IN_FORCE);
+            can_proto_node_update(&n, &app, &out, t);
+            m = can_proto_node_transmit(&n, &app, &out, NULL, 0, t, frames);
+            for (i = 0; i < m; ++i) {
+                if (frames[i].id == CAN_PROTO_ID_HEALTH_5) {
+                    memset(&back, 0, sizeof back);
+                    TV_CHECK_EQ_INT(can_host_decode_telemetry(&frames[i], &back), CAN_PROTO_RX_ACCEPTED);
+                    TV_CHECK_EQ_INT(t, 3000u + 38000u + (seen > 0 ? 1000000u : 0u));
+                    TV_CHECK_EQ_INT(back.fit_base_state, 2);
+                    TV_CHECK_EQ_INT(back.fit_base_windows, 0);
+                    TV_CHECK_NEAR(back.fit_base_r_ohm, 3.9876, 0.0005 + 1e-6);
+                    TV_CHECK_NEAR(back.fit_base_nke_V_s, 0.7012, 0.00025 + 1e-6);
+                    ++seen;
+                }
+            }
+        }
+        TV_CHECK_EQ_INT(seen, 2);
+    }
+}
+
 /* The health frames carry the application output's adapted parameters and stops; the
  * diagnostic frames say "none" until a code is confirmed, then that code, its status, action,
  * time since the first step and the freeze frame of the snapshot that confirmed it (values put
@@ -1207,6 +1388,12 @@ static void test_health_and_diag_frames_follow_the_application(void)
     TV_CHECK_NEAR(back.fit_r_sigma_ohm, 0.0, 0.0);
     TV_CHECK_NEAR(back.fit_nke_V_s, 0.0, 0.0);
     TV_CHECK_NEAR(back.fit_i_off_A, 0.0, 0.0);
+    /* no baseline of the fit, none learned (the default): TV_HEALTH_5 all zeros */
+    TV_CHECK_EQ_INT(out.fit_base_state, APP_FIT_BASE_NONE);
+    TV_CHECK_NEAR(back.fit_base_r_ohm, 0.0, 0.0);
+    TV_CHECK_NEAR(back.fit_base_nke_V_s, 0.0, 0.0);
+    TV_CHECK_EQ_INT(back.fit_base_state, 0);
+    TV_CHECK_EQ_INT(back.fit_base_windows, 0);
     /* at a known 70 degC: R + dR / (1 + 0.00393 (70 - 20)) */
     TV_CHECK_EQ_INT(app_set_winding_temp(&app, 1, TV_R(70.0)), TV_OK);
     step_at_rest(&app, 5002000u, &out);
@@ -1302,6 +1489,7 @@ int main(void)
     TV_TEST_RUN(test_crc8_matches_sae_j1850_vectors);
     TV_TEST_RUN(test_control_frame_bytes_match_documented_layout);
     TV_TEST_RUN(test_health_4_frame_bytes_match_documented_layout);
+    TV_TEST_RUN(test_health_5_frame_bytes_match_documented_layout);
     TV_TEST_RUN(test_signal_table_is_consistent);
     TV_TEST_RUN(test_commands_round_trip);
     TV_TEST_RUN(test_command_encoder_refuses_out_of_range);
@@ -1319,5 +1507,6 @@ int main(void)
     TV_TEST_RUN(test_health_and_diag_frames_follow_the_application);
     TV_TEST_RUN(test_track_agreement_on_health_3);
     TV_TEST_RUN(test_fit_on_health_4);
+    TV_TEST_RUN(test_fit_base_on_health_5);
     return tv_test_summary();
 }

@@ -77,6 +77,8 @@ static void test_example_file_parses_to_defaults(void)
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_TIME], 10);
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_HEALTH_1], 100);
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_DIAG_FREEZE], 100);
+    TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_HEALTH_5], 1000);
+    TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_HEALTH_5], def.can.period_ms[CAN_PROTO_TX_HEALTH_5]);
     TV_CHECK_EQ_INT(cfg.app_mode, APP_MODE_OFF);
     TV_CHECK(strcmp(cfg.app_stops_file, "/var/lib/throttle_linux/stops.params") == 0);
     TV_CHECK_NEAR(cfg.calib_current_offset_counts, def.calib_current_offset_counts, 1e-9);
@@ -102,6 +104,7 @@ static void test_values_stored(void)
                          "pwm.period_ns = 010000\n" /* decimal: ten thousand (octal would be 4096) */
                          "gpio.consumer = \"tv bench\"\n"
                          "can.period_ms.meas = 0\n"
+                         "can.period_ms.health_5 = 500\n"
                          "can.max_counter_delta = 1\n"
                          "app.mode = position\n"
                          "app.target_rad = -0.05\n"
@@ -113,6 +116,7 @@ static void test_values_stored(void)
     TV_CHECK_EQ_INT(cfg.dev.pwm_period_ns, 10000);
     TV_CHECK(strcmp(cfg.dev.gpio_consumer, "tv bench") == 0);
     TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_MEAS], 0);
+    TV_CHECK_EQ_INT(cfg.can.period_ms[CAN_PROTO_TX_HEALTH_5], 500);
     TV_CHECK_EQ_INT(cfg.can.max_counter_delta, 1);
     TV_CHECK_EQ_INT(cfg.app_mode, APP_MODE_POSITION);
     app_config_default(&app);

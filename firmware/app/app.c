@@ -195,6 +195,9 @@ int app_init(app_t *app, const app_config_t *cfg)
     (void)diag_detect_init(&app->ddet, &cfg->diag); /* validated above */
     app->fit_base_r_ohm = cfg->diag.fit_base_r_ohm;
     app->fit_base_nke_V_s = cfg->diag.fit_base_nke_V_s;
+    app->fit_base_state = (uint8_t)(app->fit_base_r_ohm > TV_R(0.0)    ? APP_FIT_BASE_IN_FORCE
+                                    : cfg->diag.fit_base_windows > 0u ? APP_FIT_BASE_LEARNING
+                                                                      : APP_FIT_BASE_NONE);
     {
         /* the bridge check's armature (the model's R and L do not change in service) */
         tv_real_t a_T;
@@ -691,6 +694,7 @@ static void fit_base_learn(app_t *app)
             TV_FABS(k_rel - TV_R(1.0)) <= (tv_real_t)APP_FIT_BASE_K_BAND) {
             app->fit_base_r_ohm = r;
             app->fit_base_nke_V_s = kk;
+            app->fit_base_state = (uint8_t)APP_FIT_BASE_IN_FORCE;
         }
         app->fit_base_n = 0u;
         app->fit_base_sum_r = TV_R(0.0);
@@ -1126,8 +1130,11 @@ void app_step(app_t *app, const app_input_t *in, app_output_t *out)
     out->fit_r_sigma_ohm = app->vfit.valid ? app->vfit.r_sigma_ohm : TV_R(0.0);
     out->fit_nke_V_s = app->vfit.valid ? app->vfit.nke_V_s : TV_R(0.0);
     out->fit_i_off_A = app->vfit.off_valid ? app->vfit.i_off_A : TV_R(0.0);
+    /* the fit's per-unit baseline, its state and the learning's progress (TV_HEALTH_5) */
     out->fit_base_r_ohm = app->fit_base_r_ohm;
     out->fit_base_nke_V_s = app->fit_base_nke_V_s;
+    out->fit_base_state = app->fit_base_state;
+    out->fit_base_windows = app->fit_base_n;
     app_diag_post(app, &dsnap, out, tq_ok, w_pred); /* diagnostics after the control law: the codes' actions, jam check */
     out->faults = app->faults;
     ++app->n_steps;

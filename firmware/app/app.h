@@ -221,6 +221,16 @@ typedef struct {
                                 the model does not explain that channel's data */
     uint32_t dtc_confirmed; /**< diagnostic codes confirmed now: bit (1u << diag_dtc_t) (firmware/diag/diag.h) */
     uint8_t dtc_action;    /**< diag_action_t in force (applied to duty and enable above) */
+    /* (the fit's baseline's state here, after dtc_action: the two fill the padding at the struct's
+     * end, so the output app_step() clears every step does not grow) */
+    uint8_t fit_base_state;    /**< the fit's per-unit baseline (fit_base_r_ohm above; TV_HEALTH_5
+                                    FitBaseState): APP_FIT_BASE_NONE (none, and none learned:
+                                    diag.fit_base_windows = 0), APP_FIT_BASE_LEARNING (none yet,
+                                    diag.fit_base_windows > 0), APP_FIT_BASE_IN_FORCE (given or learned;
+                                    an ECU stores it when this turns APP_FIT_BASE_IN_FORCE with a baseline
+                                    other than the one it stored: stop_learn.h sl_nvm_t) */
+    uint16_t fit_base_windows; /**< the fit's windows summed toward the learning under way (app_t::fit_base_n);
+                                    0 when none is */
 } app_output_t;
 
 /**
@@ -283,6 +293,8 @@ typedef struct {
     tv_real_t fit_base_sum_r;   /**< learning: sum of the windows' R referred to APP_R_REF_TEMP_C [ohm] */
     tv_real_t fit_base_sum_k;   /**< learning: sum of their n Ke [V s/rad] */
     uint16_t fit_base_n;        /**< learning: windows summed */
+    uint8_t fit_base_state;     /**< APP_FIT_BASE_* (app_output_t::fit_base_state), set where fit_base_r_ohm is:
+                                     app_init() and the learning (one copy per step) */
 } app_t;
 
 /**
@@ -345,6 +357,12 @@ int app_set_target(app_t *app, tv_real_t target_rad);
 #define APP_FIT_BASE_R_BAND 0.3
 /** ... and its n Ke within this fraction of the model's (the class's +-10 %) [-]. */
 #define APP_FIT_BASE_K_BAND 0.15
+/** app_output_t::fit_base_state: no baseline, and none learned (diag.fit_base_windows = 0) ... */
+#define APP_FIT_BASE_NONE 0u
+/** ... none yet, learning (diag.fit_base_windows > 0) ... */
+#define APP_FIT_BASE_LEARNING 1u
+/** ... a baseline in force, given (diag.fit_base_r_ohm, fit_base_nke_V_s) or learned. */
+#define APP_FIT_BASE_IN_FORCE 2u
 
 /**
  * Set the winding's temperature (a sensor, or the engine controller's estimate over CAN:

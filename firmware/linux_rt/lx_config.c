@@ -76,6 +76,7 @@ static const key_desc_t s_keys[] = {
     NUM("can.period_ms.diag_freeze", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_DIAG_FREEZE], 0),
     NUM("can.period_ms.health_3", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_HEALTH_3], 0),
     NUM("can.period_ms.health_4", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_HEALTH_4], 0),
+    NUM("can.period_ms.health_5", K_U16, 0, 60000, can.period_ms[CAN_PROTO_TX_HEALTH_5], 0),
     NUM("app.mode", K_MODE, 0, 7, app_mode, 0),
     STR("app.stops_file", app_stops_file, 0),
     /* the ranges of the command frames (can_proto.h), so a configuration can be commanded */

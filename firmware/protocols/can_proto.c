@@ -137,6 +137,14 @@ static const can_proto_signal_t s_sig_health_4[] = {
     {"FitBackEmf", 40u, 12u, 0u, 0.0005f, 0.0f, 0.0f, 2.0475f, "Vs/rad"},
     {"FitCurrentOffset", 52u, 12u, 1u, 0.0001f, 0.0f, -0.2048f, 0.2047f, "A"},
 };
+static const can_proto_signal_t s_sig_health_5[] = {
+    SIG_CRC,
+    SIG_COUNTER,
+    {"FitBaseResistance20", 16u, 14u, 0u, 0.001f, 0.0f, 0.0f, 16.383f, "ohm"},
+    {"FitBaseBackEmf", 30u, 12u, 0u, 0.0005f, 0.0f, 0.0f, 2.0475f, "Vs/rad"},
+    {"FitBaseState", 42u, 2u, 0u, 1.0f, 0.0f, 0.0f, 3.0f, ""},
+    {"FitBaseWindows", 44u, 16u, 0u, 1.0f, 0.0f, 0.0f, 65535.0f, ""},
+};
 static const can_proto_signal_t s_sig_diag[] = {
     SIG_CRC,
     SIG_COUNTER,
@@ -188,17 +196,19 @@ static const can_proto_msg_t s_msgs[CAN_PROTO_N_CMD + CAN_PROTO_N_TX + CAN_PROTO
     MSG(CAN_PROTO_ID_DIAG_FREEZE, "TV_DIAG_FREEZE", 0u, s_sig_diag_freeze),
     MSG(CAN_PROTO_ID_HEALTH_3, "TV_HEALTH_3", 0u, s_sig_health_3),
     MSG(CAN_PROTO_ID_HEALTH_4, "TV_HEALTH_4", 0u, s_sig_health_4),
+    MSG(CAN_PROTO_ID_HEALTH_5, "TV_HEALTH_5", 0u, s_sig_health_5),
     MSG(CAN_PROTO_ID_ECU_CPU, "TV_ECU_CPU", 0u, s_sig_ecu_cpu),
 };
 
 /* First transmission of each telemetry frame after the time base [ms]: staggered, except
  * TV_TIME, which goes out in the same tick as TV_EST_STATE. With the default periods (10 ms for
- * 0..4 and TV_TIME, 100 ms for the others) no two ids share a tick: the 10 ms frames occupy 0..4
- * mod 10, the 100 ms ones 5..9, 18, 19, 28 and 29 mod 100. */
-static const uint8_t s_tx_offset_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 0u, 8u, 9u, 18u, 19u, 28u, 29u};
+ * 0..4 and TV_TIME, 1000 ms for TV_HEALTH_5, 100 ms for the others) no two ids share a tick: the
+ * 10 ms frames occupy 0..4 mod 10, the 100 ms ones 5..9, 18, 19, 28 and 29 mod 100, TV_HEALTH_5
+ * 38 mod 1000 (38 mod 100 and 8 mod 10: free of both). */
+static const uint8_t s_tx_offset_ms[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 0u, 8u, 9u, 18u, 19u, 28u, 29u, 38u};
 /* Transmission order within a tick: CAN_PROTO_TX_* order, TV_TIME last (it pairs with the
  * TV_EST_STATE before it). */
-static const uint8_t s_tx_order[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 9u, 10u, 11u, 12u, 13u, 14u, 8u};
+static const uint8_t s_tx_order[CAN_PROTO_N_TX] = {0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u, 9u, 10u, 11u, 12u, 13u, 14u, 15u, 8u};
 
 /* The code index fields are 4 bits (CAN_PROTO_DTC_NONE = 15 means none) and the mask 16 bits. */
 typedef char can_proto_dtc_fits_t[(unsigned)DIAG_DTC_COUNT <= CAN_PROTO_DTC_NONE ? 1 : -1];
@@ -543,6 +553,10 @@ void can_proto_telemetry_from_app(const app_t *app, const app_output_t *out, can
     tm->fit_r_sigma_ohm = (float)out->fit_r_sigma_ohm;
     tm->fit_nke_V_s = (float)out->fit_nke_V_s;
     tm->fit_i_off_A = (float)out->fit_i_off_A;
+    tm->fit_base_r_ohm = (float)out->fit_base_r_ohm;
+    tm->fit_base_nke_V_s = (float)out->fit_base_nke_V_s;
+    tm->fit_base_state = out->fit_base_state;
+    tm->fit_base_windows = out->fit_base_windows;
     {
         uint32_t mask = out->dtc_confirmed & 0xFFFFu;
         uint8_t n = 0u;
@@ -637,6 +651,12 @@ static int telemetry_phys(uint32_t id, const can_proto_telemetry_t *tm, float *p
         p[4] = tm->fit_nke_V_s;
         p[5] = tm->fit_i_off_A;
         return TV_OK;
+    case CAN_PROTO_ID_HEALTH_5:
+        p[2] = tm->fit_base_r_ohm;
+        p[3] = tm->fit_base_nke_V_s;
+        p[4] = (float)tm->fit_base_state;
+        p[5] = (float)tm->fit_base_windows;
+        return TV_OK;
     case CAN_PROTO_ID_DIAG:
         p[2] = (float)tm->dtc_count;
         p[3] = (float)tm->last_dtc;
@@ -714,6 +734,7 @@ void can_proto_config_default(can_proto_config_t *cfg)
     for (k = 0; k < CAN_PROTO_N_TX; ++k) {
         cfg->period_ms[k] = k <= (size_t)CAN_PROTO_TX_MEAS || k == (size_t)CAN_PROTO_TX_TIME ? 10u : 100u;
     }
+    cfg->period_ms[CAN_PROTO_TX_HEALTH_5] = 1000u; /* the fit's baseline: it changes once in a unit's life */
 }
 
 /* The control the application should run: the commanded one, OFF while a watchdog-protected

@@ -28,6 +28,7 @@
  *   0x18C  TV_DIAG_FREEZE       TV->bench  100 ms (freeze frame of the last confirmed code)
  *   0x18D  TV_HEALTH_3          TV->bench  100 ms (condition monitoring: position-track agreement)
  *   0x18E  TV_HEALTH_4          TV->bench  100 ms (condition monitoring: the voltage equation's fit)
+ *   0x18F  TV_HEALTH_5          TV->bench  1000 ms (condition monitoring: the fit's per-unit baseline)
  *
  * Every frame starts with the same protection header (AUTOSAR E2E profile 1 layout):
  *   bits 0..7   CRC      CRC-8 SAE J1850: polynomial 0x1D, initial value 0xFF, final XOR 0xFF,
@@ -144,6 +145,23 @@
  *     FitCurrentOffset  52|12s   0.0001 A         [-0.2048, 0.2047]  the current sensor's offset the fit
  *                                                              reads (app_output_t::fit_i_off_A, P1A04's
  *                                                              reading); 0 until a window gave one
+ *   TV_HEALTH_5 0x18F (condition monitoring, every second: the voltage equation fit's per-unit
+ *   baseline, README "A per-unit baseline of the fit"; bits 12..15 and 60..63 reserved; a value
+ *   beyond its field saturates). A tester reads a learned baseline off a unit here, to store it
+ *   or compare it with the one stored (stop_learn.h sl_nvm_t)
+ *     FitBaseResistance20 16|14  0.001 ohm        [0, 16.383]  the baseline's R at 20 degC
+ *                                                              (app_output_t::fit_base_r_ohm); 0 while
+ *                                                              there is none
+ *     FitBaseBackEmf    30|12    0.0005 V s/rad   [0, 2.0475]  its n Ke at the plate
+ *                                                              (app_output_t::fit_base_nke_V_s); 0 while none
+ *     FitBaseState      42|2     1                0 none and not learning (diag.fit_base_windows = 0),
+ *                                                 1 learning (no baseline yet, fit_base_windows > 0),
+ *                                                 2 in force (given or learned)
+ *                                                 (app_output_t::fit_base_state)
+ *     FitBaseWindows    44|16    1                [0, 65535]  the fit's windows summed toward the
+ *                                                              learning under way (app_t::fit_base_n,
+ *                                                              app_output_t::fit_base_windows; saturates);
+ *                                                              0 when none is
  *   TV_DIAG 0x18B (diagnostic codes, firmware/diag/diag.h; code index = diag_dtc_t, 15 = none)
  *     DtcCount          12|4     1                [0, 15]  codes confirmed now
  *     LastDtc           16|4     1                [0, 15]  the code confirmed most recently since start (15: none)
@@ -231,6 +249,7 @@ extern "C" {
 #define CAN_PROTO_ID_DIAG_FREEZE 0x18Cu
 #define CAN_PROTO_ID_HEALTH_3 0x18Du
 #define CAN_PROTO_ID_HEALTH_4 0x18Eu
+#define CAN_PROTO_ID_HEALTH_5 0x18Fu
 /** Platform frame of the Cortex-M4F ECU: CPU load of the control step (DWT cycles). Listed in
  *  the frame table and the DBC, but not scheduled by the node: the ECU sends it itself every
  *  CAN_PROTO_ECU_CPU_PERIOD_MS with can_proto_encode_ecu_cpu(). */
@@ -247,7 +266,7 @@ extern "C" {
 
 /** Number of command frames and of telemetry frames. */
 #define CAN_PROTO_N_CMD 2u
-#define CAN_PROTO_N_TX 15u
+#define CAN_PROTO_N_TX 16u
 /** Platform frames in the table after the telemetry (TV_ECU_CPU). */
 #define CAN_PROTO_N_PLATFORM 1u
 /** Most signals in one frame, CRC and counter included. */
@@ -275,7 +294,8 @@ enum {
     CAN_PROTO_TX_DIAG = 11,
     CAN_PROTO_TX_DIAG_FREEZE = 12,
     CAN_PROTO_TX_HEALTH_3 = 13,
-    CAN_PROTO_TX_HEALTH_4 = 14
+    CAN_PROTO_TX_HEALTH_4 = 14,
+    CAN_PROTO_TX_HEALTH_5 = 15
 };
 
 /** One signal of a frame, as in the DBC: physical = raw * scale + offset. */
@@ -380,6 +400,10 @@ typedef struct {
     float fit_nke_V_s;        /**< the fit's back-EMF constant at the plate, n Ke [V s/rad]; 0 until
                                    its first window */
     float fit_i_off_A;        /**< the current sensor's offset the fit reads [A]; 0 until it read one */
+    float fit_base_r_ohm;     /**< TV_HEALTH_5: the fit's per-unit baseline, R at 20 degC [ohm]; 0: none */
+    float fit_base_nke_V_s;   /**< its n Ke at the plate [V s/rad]; 0: none */
+    uint8_t fit_base_state;   /**< 0 none and not learning, 1 learning, 2 in force (app_output_t::fit_base_state) */
+    uint16_t fit_base_windows; /**< windows summed toward the learning under way (app_output_t::fit_base_windows) */
     /* diagnostic codes (TV_DIAG, TV_DIAG_FREEZE) */
     uint8_t dtc_count;        /**< codes confirmed now, 0..15 */
     uint16_t dtc_mask;        /**< bit k: code k confirmed now */
@@ -502,7 +526,8 @@ uint8_t can_proto_frame_counter(const hal_can_frame_t *frame);
 /**
  * Fill the step-related fields of *tm from the application and its last output: estimate,
  * sigma, innovations, NIS, duty, measurements, mode, faults, flags, ekf_rejected, the health
- * indicators (adapted parameters, stops, track agreement, the voltage equation's fit) and the
+ * indicators (adapted parameters, stops, track agreement, the voltage equation's fit and its
+ * per-unit baseline) and the
  * diagnostic codes (confirmed codes and action of the output; the last confirmed code and its
  * freeze frame from app->diag). Loop, rx and window statistics and the link flags are left as
  * they are (the node fills them).
@@ -527,7 +552,7 @@ int can_proto_encode_ecu_cpu(uint32_t cycles_max, uint32_t cycles_mean, uint32_t
 /* ---- the node ----------------------------------------------------------------------------- */
 
 /** Defaults: timeout 100 ms, max counter delta 2, periods 10 ms (0x180..0x184, 0x188), 100 ms (0x185..0x187,
- *  0x189..0x18E). */
+ *  0x189..0x18E), 1000 ms (0x18F: the fit's baseline changes once in a unit's life). */
 void can_proto_config_default(can_proto_config_t *cfg);
 
 /**
@@ -559,8 +584,8 @@ void can_proto_node_update(can_proto_node_t *node, app_t *app, const app_output_
  * The telemetry frames due at t_us, encoded into frames[0..n-1], in CAN_PROTO_TX_* order except
  * TV_TIME, which comes last (after the other frames of its tick). The
  * first call sets the time base; frame k (k <= CAN_PROTO_TX_EKF_STATS) is first sent k ms later
- * (staggered), TV_HEALTH_1, TV_HEALTH_2, TV_DIAG, TV_DIAG_FREEZE, TV_HEALTH_3, TV_HEALTH_4 at 8, 9, 18, 19,
- * 28, 29 ms (so with the default periods no two ids share a tick), except TV_TIME,
+ * (staggered), TV_HEALTH_1, TV_HEALTH_2, TV_DIAG, TV_DIAG_FREEZE, TV_HEALTH_3, TV_HEALTH_4, TV_HEALTH_5 at
+ * 8, 9, 18, 19, 28, 29, 38 ms (so with the default periods no two ids share a tick), except TV_TIME,
  * which is scheduled like TV_EST_STATE (offset 0, and its own period_ms: keep them equal to
  * pair them); then every period_ms. A late call sends each due frame once (no catching up).
  * @param loop       platform loop statistics (may be NULL: zeros)

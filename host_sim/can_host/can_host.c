@@ -134,6 +134,12 @@ int can_host_decode_telemetry(const hal_can_frame_t *frame, can_proto_telemetry_
         tm->fit_nke_V_s = p[4];
         tm->fit_i_off_A = p[5];
         break;
+    case CAN_PROTO_ID_HEALTH_5:
+        tm->fit_base_r_ohm = p[2];
+        tm->fit_base_nke_V_s = p[3];
+        tm->fit_base_state = (uint8_t)u32_of(p[4]);
+        tm->fit_base_windows = (uint16_t)u32_of(p[5]);
+        break;
     case CAN_PROTO_ID_DIAG:
         tm->dtc_count = (uint8_t)u32_of(p[2]);
         tm->last_dtc = (uint8_t)u32_of(p[3]);
