@@ -3006,7 +3006,10 @@ static void test_fit_baseline(void)
  * nothing is learned with the temperature unknown, nor kept when it lies outside the model's
  * +-30 % (the model's R set 1.45 times too small); with the baseline, a current gain of +5 %
  * (which the class's bounds do not see on these units) confirms P1A04 and R x 1.25 confirms P2101
- * in 30 s of driving, and the healthy unit confirms nothing. */
+ * in 30 s of driving, and the healthy unit confirms nothing. The output's state (TV_HEALTH_5
+ * FitBaseState) reads learning until the baseline is learned, in force after (and given), and its
+ * count of windows summed is 0 with the temperature unknown, between 1 and 15 after 3 s of the
+ * drive, 0 again once learned. */
 static void test_fit_baseline_learned_and_used(void)
 {
     static const uint64_t units[2] = {1000u, 1001u};
@@ -3033,14 +3036,28 @@ static void test_fit_baseline_learned_and_used(void)
         /* temperature unknown: no baseline */
         TV_CHECK_EQ_INT(sim_run(&opt, &r), TV_OK);
         TV_CHECK(!isfinite(r.fit_base_r_ohm) && !isfinite(r.fit_base_nke_V_s));
+        TV_CHECK_EQ_INT(r.fit_base_state, APP_FIT_BASE_LEARNING); /* (TV_HEALTH_5) learning, nothing summed */
+        TV_CHECK_EQ_INT(r.fit_base_windows, 0);
         /* implausible: the model's R 1.45 times too small */
         opt.temp_reading = 1;
         opt.temp_reading_C = opt.winding_temp_C;
         lc.model.R_ohm = ac.model.R_ohm / TV_R(1.45);
         TV_CHECK_EQ_INT(sim_run(&opt, &r), TV_OK);
         TV_CHECK(!isfinite(r.fit_base_r_ohm));
+        TV_CHECK_EQ_INT(r.fit_base_state, APP_FIT_BASE_LEARNING);
         lc.model.R_ohm = ac.model.R_ohm;
+        /* 3 s of the drive: still learning, some of the 16 windows summed */
+        opt.duration_s = 3.0;
         TV_CHECK_EQ_INT(sim_run(&opt, &r), TV_OK);
+        TV_CHECK(!isfinite(r.fit_base_r_ohm));
+        TV_CHECK_EQ_INT(r.fit_base_state, APP_FIT_BASE_LEARNING);
+        TV_CHECK(r.fit_base_windows > 0u && r.fit_base_windows < 16u && r.fit_base_windows <= r.fit_windows);
+        printf("  unit %llu: after 3 s, %u of 16 windows summed (%u taken)\n", (unsigned long long)units[u],
+               (unsigned)r.fit_base_windows, (unsigned)r.fit_windows);
+        opt.duration_s = 30.0;
+        TV_CHECK_EQ_INT(sim_run(&opt, &r), TV_OK);
+        TV_CHECK_EQ_INT(r.fit_base_state, APP_FIT_BASE_IN_FORCE); /* learned: the count back to 0 */
+        TV_CHECK_EQ_INT(r.fit_base_windows, 0);
         TV_CHECK(isfinite(r.fit_base_r_ohm) && fabs(r.fit_base_r_ohm / r.r_true_20_ohm - 1.0) < 0.01);
         TV_CHECK(isfinite(r.fit_base_nke_V_s) && fabs(r.fit_base_nke_V_s / r.nke_true_V_s - 1.0) < 0.015);
         printf("  unit %llu: baseline R %.4f of the plant's, n Ke %.4f\n", (unsigned long long)units[u],
@@ -3054,6 +3071,7 @@ static void test_fit_baseline_learned_and_used(void)
         ac.diag.fit_base_r_ohm = lc.diag.fit_base_r_ohm;
         ac.diag.fit_base_nke_V_s = lc.diag.fit_base_nke_V_s;
         told_run(&pc, &ac, "current_gain:5@2.0", SIM_SCN_DRIVE, 30.0, &r);
+        TV_CHECK_EQ_INT(r.fit_base_state, APP_FIT_BASE_IN_FORCE); /* given */
         TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) && r.dtc_confirm_t_s[DIAG_DTC_P1A04] > 2.0);
         TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]));
         printf("  unit %llu: current gain +5 %%: P1A04 %.2f s after the onset\n", (unsigned long long)units[u],

@@ -370,6 +370,8 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
             continue;
         }
         ++res->n_ticks;
+        res->fit_base_state = out.fit_base_state; /* the last step's (TV_HEALTH_5) */
+        res->fit_base_windows = out.fit_base_windows;
         (void)sim_hal_truth(&truth);
         tr[TVM_I] = truth.current_A;
         tr[TVM_W] = truth.velocity_rad_s;
