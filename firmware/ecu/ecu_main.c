@@ -39,6 +39,10 @@
 #endif
 #endif
 
+/* The largest burst of one tick (after a stall every telemetry frame is due, and TV_ECU_CPU may
+ * be too) fits the HAL's software transmit queue, empty or nearly so at the start of a tick. */
+typedef char ecu_can_burst_fits_t[CAN_PROTO_N_TX + 1u <= STM32F4_CAN_QUEUE_LEN ? 1 : -1];
+
 static app_t s_app;
 static app_output_t s_out;
 static can_proto_node_t s_node;

@@ -52,9 +52,10 @@ extern "C" {
 /** Delay of the control tick after a PWM peak [us]: the 4 conversions take about 5 us. */
 #define STM32F4_ADC_READY_US 10u
 /** Software CAN queue lengths [frames]. The largest burst is the tick after a stall, when every
- * telemetry frame is due at once: can_proto's 15 (CAN_PROTO_N_TX, TV_HEALTH_4 the 15th) and
- * TV_ECU_CPU, 16 frames, of which the 3 transmit mailboxes take the first; 24 leaves room for 8
- * more frames without a drop (a drop is counted: stm32f4_status_t::can_tx_dropped). */
+ * telemetry frame is due at once: can_proto's 16 (CAN_PROTO_N_TX, TV_HEALTH_5 the 16th) and
+ * TV_ECU_CPU, 17 frames, of which the 3 transmit mailboxes take the first; 24 leaves room for 7
+ * more frames without a drop (a drop is counted: stm32f4_status_t::can_tx_dropped; ecu_main.c
+ * checks the burst against this length at compile time). */
 #define STM32F4_CAN_QUEUE_LEN 24u
 
 /** Platform configuration. */
