@@ -1,12 +1,16 @@
 /**
  * @file test_stop_learn.c
  * @brief Start-up stop learning (firmware/app/stop_learn.h): the routine's rules on scripted
- *        angles (result, timeout, implausible results rejected, bad input), the non-volatile
- *        record (CRC-32 against its published check value, corruption rejected), app_set_stops()
+ *        angles (result, timeout, implausible results rejected, bad input), the unit's
+ *        non-volatile record (CRC-32 against its published check value; version 2 with the fit's
+ *        baseline byte by byte and round trip, version 1 still read; corruption and implausible
+ *        values rejected), app_set_stops()
  *        validation, and the routine through the application against population plants (angles
  *        within 5 mrad of the plant's own stops, never into a stop faster than 1 rad/s).
  */
 #include <math.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "app.h"
@@ -335,6 +339,49 @@ static void test_timeout_and_implausible_results_learn_nothing(void)
     TV_CHECK(strcmp(sl_error_name(SL_ERR_IMPLAUSIBLE_TRAVEL), "travel outside its plausible window") == 0);
 }
 
+/* Write a little-endian u32 into a record built by hand. */
+static void put_le32(uint8_t *b, uint32_t v)
+{
+    b[0] = (uint8_t)v;
+    b[1] = (uint8_t)(v >> 8);
+    b[2] = (uint8_t)(v >> 16);
+    b[3] = (uint8_t)(v >> 24);
+}
+
+static void put_f32(uint8_t *b, float f)
+{
+    uint32_t u;
+    memcpy(&u, &f, sizeof u);
+    put_le32(b, u);
+}
+
+/* A record rejected: TV_ERR_FORMAT, *rec not written. */
+static void nvm_rejected(const uint8_t buf[SL_NVM_BYTES], const char *what)
+{
+    sl_nvm_t back;
+    memset(&back, 0xA5, sizeof back);
+    if (sl_nvm_unpack(buf, &back) != TV_ERR_FORMAT || back.n_learns != 0xA5A5A5A5u || back.magic != 0xA5A5A5A5u) {
+        fprintf(stderr, "  record accepted or written: %s\n", what);
+        TV_CHECK(0);
+    }
+}
+
+/* A version-2 record packed from rec with its baseline changed: rejected, as the baseline is
+ * implausible or half of one. */
+static void nvm_bad_baseline(sl_nvm_t rec, float r_ohm, float nke_V_s, const char *what)
+{
+    uint8_t buf[SL_NVM_BYTES];
+    rec.fit_base_r_ohm = r_ohm;
+    rec.fit_base_nke_V_s = nke_V_s;
+    TV_CHECK_EQ_INT(sl_nvm_pack(&rec, buf), TV_OK);
+    nvm_rejected(buf, what);
+}
+
+/* The unit's record (version 2, 32 bytes): the layout byte by byte, the round trip of the stops
+ * and the fit's baseline (and of none), a version-1 record built by hand (24 bytes, its CRC via
+ * sl_crc32 at offset 20, erased flash after it) accepted with its stops and no baseline; every
+ * field corrupted, a wrong CRC, magic or version, implausible angles, half a baseline, NaN,
+ * infinities, zero-or-negative and out-of-range baselines rejected without writing *rec. */
 static void test_nvm_record(void)
 {
     static const uint8_t check[] = "123456789";
@@ -342,37 +389,159 @@ static void test_nvm_record(void)
     sl_nvm_t back;
     uint8_t buf[SL_NVM_BYTES];
     uint8_t bad[SL_NVM_BYTES];
+    uint8_t v1[SL_NVM_BYTES];
+    unsigned i;
     /* the published check value of CRC-32/ISO-HDLC */
     TV_CHECK(sl_crc32(check, 9u) == 0xCBF43926u);
+    TV_CHECK_EQ_INT(SL_NVM_VERSION, 2);
+    TV_CHECK_EQ_INT(SL_NVM_BYTES, 32);
     memset(&rec, 0, sizeof rec);
     rec.magic = SL_NVM_MAGIC;
     rec.version = SL_NVM_VERSION;
     rec.phi_closed_rad = -0.0912f;
     rec.phi_open_rad = 1.4021f;
+    rec.fit_base_r_ohm = 4.1237f;
+    rec.fit_base_nke_V_s = 0.6543f;
     rec.n_learns = 7u;
     TV_CHECK_EQ_INT(sl_nvm_pack(&rec, buf), TV_OK);
+    /* the layout, field by field, against the same record written by hand */
+    memset(bad, 0, sizeof bad);
+    put_le32(bad, 0x53544F50u);
+    put_le32(bad + 4, 2u);
+    put_f32(bad + 8, -0.0912f);
+    put_f32(bad + 12, 1.4021f);
+    put_f32(bad + 16, 4.1237f);
+    put_f32(bad + 20, 0.6543f);
+    put_le32(bad + 24, 7u);
+    put_le32(bad + 28, sl_crc32(bad, 28u));
+    TV_CHECK(memcmp(buf, bad, SL_NVM_BYTES) == 0);
     TV_CHECK(buf[0] == 0x50u && buf[1] == 0x4Fu && buf[2] == 0x54u && buf[3] == 0x53u); /* little-endian "STOP" */
-    TV_CHECK_EQ_INT(sl_nvm_unpack(buf, &back), TV_OK);
-    TV_CHECK(back.phi_closed_rad == rec.phi_closed_rad && back.phi_open_rad == rec.phi_open_rad);
-    TV_CHECK(back.n_learns == 7u);
-    /* one flipped bit anywhere: rejected, nothing written */
-    memcpy(bad, buf, sizeof bad);
-    bad[9] ^= 0x01u;
     memset(&back, 0xA5, sizeof back);
-    TV_CHECK_EQ_INT(sl_nvm_unpack(bad, &back), TV_ERR_FORMAT);
-    TV_CHECK(back.n_learns == 0xA5A5A5A5u);
-    /* a valid CRC over an implausible angle or a wrong version: rejected */
+    TV_CHECK_EQ_INT(sl_nvm_unpack(buf, &back), TV_OK);
+    TV_CHECK(back.magic == SL_NVM_MAGIC && back.version == 2u && back.reserved == 0u);
+    TV_CHECK(back.phi_closed_rad == rec.phi_closed_rad && back.phi_open_rad == rec.phi_open_rad);
+    TV_CHECK(back.fit_base_r_ohm == rec.fit_base_r_ohm && back.fit_base_nke_V_s == rec.fit_base_nke_V_s);
+    TV_CHECK(back.n_learns == 7u);
+    TV_CHECK(back.crc32 == sl_crc32(buf, 28u));
+    /* no baseline: 0, 0 round trips */
+    rec.fit_base_r_ohm = 0.0f;
+    rec.fit_base_nke_V_s = 0.0f;
+    TV_CHECK_EQ_INT(sl_nvm_pack(&rec, bad), TV_OK);
+    memset(&back, 0xA5, sizeof back);
+    TV_CHECK_EQ_INT(sl_nvm_unpack(bad, &back), TV_OK);
+    TV_CHECK(back.fit_base_r_ohm == 0.0f && back.fit_base_nke_V_s == 0.0f && back.n_learns == 7u);
+    /* the bounds themselves are plausible */
+    rec.fit_base_r_ohm = SL_NVM_FIT_BASE_R_MAX_OHM;
+    rec.fit_base_nke_V_s = SL_NVM_FIT_BASE_NKE_MAX_V_S;
+    TV_CHECK_EQ_INT(sl_nvm_pack(&rec, bad), TV_OK);
+    TV_CHECK_EQ_INT(sl_nvm_unpack(bad, &back), TV_OK);
+    TV_CHECK(back.fit_base_r_ohm == 1000.0f && back.fit_base_nke_V_s == 100.0f);
+    rec.fit_base_r_ohm = 4.1237f;
+    rec.fit_base_nke_V_s = 0.6543f;
+
+    /* a version-1 record, as units in the field hold it: magic, version 1, the angles, n_learns,
+     * the CRC-32 of its 20 bytes at offset 20; the flash after it erased (0xFF), then anything */
+    memset(v1, 0xFF, sizeof v1);
+    put_le32(v1, 0x53544F50u);
+    put_le32(v1 + 4, 1u);
+    put_f32(v1 + 8, -0.0733f);
+    put_f32(v1 + 12, 1.3877f);
+    put_le32(v1 + 16, 3u);
+    put_le32(v1 + 20, sl_crc32(v1, 20u));
+    for (i = 0; i < 2u; ++i) {
+        memset(&back, 0xA5, sizeof back);
+        TV_CHECK_EQ_INT(sl_nvm_unpack(v1, &back), TV_OK);
+        TV_CHECK(back.magic == SL_NVM_MAGIC && back.version == 1u);
+        TV_CHECK(back.phi_closed_rad == -0.0733f && back.phi_open_rad == 1.3877f);
+        TV_CHECK(back.fit_base_r_ohm == 0.0f && back.fit_base_nke_V_s == 0.0f); /* none */
+        TV_CHECK(back.n_learns == 3u);
+        memset(v1 + SL_NVM_V1_BYTES, 0x5A, SL_NVM_BYTES - SL_NVM_V1_BYTES); /* ignored */
+    }
+    /* written back as version 2: the same stops, the baseline still none, then one learned */
+    back.version = SL_NVM_VERSION;
+    TV_CHECK_EQ_INT(sl_nvm_pack(&back, bad), TV_OK);
+    memset(&rec, 0, sizeof rec);
+    TV_CHECK_EQ_INT(sl_nvm_unpack(bad, &rec), TV_OK);
+    TV_CHECK(rec.version == 2u && rec.phi_closed_rad == -0.0733f && rec.phi_open_rad == 1.3877f &&
+             rec.fit_base_r_ohm == 0.0f && rec.n_learns == 3u);
+    /* version 1's bytes under version 2 (its CRC where version 2 keeps R), and version 2's bytes
+     * under version 1: rejected */
+    memcpy(bad, v1, sizeof bad);
+    put_le32(bad + 4, 2u);
+    nvm_rejected(bad, "a version-1 record labelled 2");
+    memcpy(bad, buf, sizeof bad);
+    put_le32(bad + 4, 1u);
+    nvm_rejected(bad, "a version-2 record labelled 1");
+    /* a version-1 record: every bit of its 24 bytes flipped in turn */
+    for (i = 0; i < SL_NVM_V1_BYTES * 8u; ++i) {
+        memcpy(bad, v1, sizeof bad);
+        bad[i / 8u] ^= (uint8_t)(1u << (i % 8u));
+        nvm_rejected(bad, "a version-1 record with a bit flipped");
+    }
+    /* a version-1 record with a valid CRC over an implausible angle */
+    memcpy(bad, v1, sizeof bad);
+    put_f32(bad + 12, 3.0f);
+    put_le32(bad + 20, sl_crc32(bad, 20u));
+    nvm_rejected(bad, "a version-1 record, open stop 3 rad");
+
+    /* version 2: every bit of the 32 bytes flipped in turn (magic, version, reserved, each field,
+     * the CRC): rejected, nothing written */
+    for (i = 0; i < SL_NVM_BYTES * 8u; ++i) {
+        memcpy(bad, buf, sizeof bad);
+        bad[i / 8u] ^= (uint8_t)(1u << (i % 8u));
+        nvm_rejected(bad, "a version-2 record with a bit flipped");
+    }
+    /* a valid CRC over a wrong magic or version, or implausible angles */
+    rec.magic = SL_NVM_MAGIC;
+    rec.version = SL_NVM_VERSION;
+    rec.reserved = 0u;
+    rec.phi_closed_rad = -0.0912f;
+    rec.phi_open_rad = 1.4021f;
+    rec.fit_base_r_ohm = 4.1237f;
+    rec.fit_base_nke_V_s = 0.6543f;
+    rec.n_learns = 7u;
+    rec.magic = 0x53544F51u;
+    TV_CHECK_EQ_INT(sl_nvm_pack(&rec, bad), TV_OK);
+    nvm_rejected(bad, "magic");
+    rec.magic = SL_NVM_MAGIC;
+    rec.version = 0u;
+    TV_CHECK_EQ_INT(sl_nvm_pack(&rec, bad), TV_OK);
+    nvm_rejected(bad, "version 0");
+    rec.version = 3u;
+    TV_CHECK_EQ_INT(sl_nvm_pack(&rec, bad), TV_OK);
+    nvm_rejected(bad, "version 3");
+    rec.version = SL_NVM_VERSION;
     rec.phi_open_rad = 3.0f;
     TV_CHECK_EQ_INT(sl_nvm_pack(&rec, bad), TV_OK);
-    TV_CHECK_EQ_INT(sl_nvm_unpack(bad, &back), TV_ERR_FORMAT);
+    nvm_rejected(bad, "open stop 3 rad");
     rec.phi_open_rad = (float)NAN;
     TV_CHECK_EQ_INT(sl_nvm_pack(&rec, bad), TV_OK);
-    TV_CHECK_EQ_INT(sl_nvm_unpack(bad, &back), TV_ERR_FORMAT);
+    nvm_rejected(bad, "open stop NaN");
     rec.phi_open_rad = 1.4021f;
-    rec.version = 2u;
+    rec.phi_closed_rad = 0.1f;
     TV_CHECK_EQ_INT(sl_nvm_pack(&rec, bad), TV_OK);
-    TV_CHECK_EQ_INT(sl_nvm_unpack(bad, &back), TV_ERR_FORMAT);
+    nvm_rejected(bad, "closed stop +0.1 rad");
+    rec.phi_closed_rad = -0.0912f;
+    TV_CHECK_EQ_INT(sl_nvm_pack(&rec, bad), TV_OK);
+    TV_CHECK_EQ_INT(sl_nvm_unpack(bad, &back), TV_OK); /* restored: accepted */
+    /* the baseline: half of one, NaN, infinities, zero or negative, beyond the bounds */
+    nvm_bad_baseline(rec, 4.1237f, 0.0f, "R without n Ke");
+    nvm_bad_baseline(rec, 0.0f, 0.6543f, "n Ke without R");
+    nvm_bad_baseline(rec, (float)NAN, 0.6543f, "R NaN");
+    nvm_bad_baseline(rec, 4.1237f, (float)NAN, "n Ke NaN");
+    nvm_bad_baseline(rec, (float)NAN, (float)NAN, "both NaN");
+    nvm_bad_baseline(rec, (float)INFINITY, 0.6543f, "R infinite");
+    nvm_bad_baseline(rec, 4.1237f, (float)INFINITY, "n Ke infinite");
+    nvm_bad_baseline(rec, -4.1237f, 0.6543f, "R negative");
+    nvm_bad_baseline(rec, 4.1237f, -0.6543f, "n Ke negative");
+    nvm_bad_baseline(rec, -4.1237f, -0.6543f, "both negative");
+    nvm_bad_baseline(rec, 1000.001f, 0.6543f, "R above 1000 ohm");
+    nvm_bad_baseline(rec, 4.1237f, 100.001f, "n Ke above 100 V s/rad");
+    nvm_bad_baseline(rec, 1e30f, 1e30f, "both far out");
     TV_CHECK_EQ_INT(sl_nvm_unpack(NULL, &back), TV_ERR_NULL);
+    TV_CHECK_EQ_INT(sl_nvm_unpack(buf, NULL), TV_ERR_NULL);
+    TV_CHECK_EQ_INT(sl_nvm_pack(NULL, buf), TV_ERR_NULL);
+    TV_CHECK_EQ_INT(sl_nvm_pack(&rec, NULL), TV_ERR_NULL);
 }
 
 static void test_app_set_stops_is_validated(void)

@@ -567,8 +567,10 @@ int sl_nvm_pack(const sl_nvm_t *rec, uint8_t buf[SL_NVM_BYTES])
     put_u32(buf + 4, (uint32_t)rec->version | ((uint32_t)rec->reserved << 16));
     put_u32(buf + 8, f32_bits(rec->phi_closed_rad));
     put_u32(buf + 12, f32_bits(rec->phi_open_rad));
-    put_u32(buf + 16, rec->n_learns);
-    put_u32(buf + 20, sl_crc32(buf, 20u));
+    put_u32(buf + 16, f32_bits(rec->fit_base_r_ohm));
+    put_u32(buf + 20, f32_bits(rec->fit_base_nke_V_s));
+    put_u32(buf + 24, rec->n_learns);
+    put_u32(buf + 28, sl_crc32(buf, 28u));
     return TV_OK;
 }
 
@@ -577,6 +579,7 @@ int sl_nvm_unpack(const uint8_t buf[SL_NVM_BYTES], sl_nvm_t *rec)
     sl_nvm_t r;
     sl_config_t d;
     uint32_t vw;
+    uint32_t crc_n;
     if (buf == NULL || rec == NULL) {
         return TV_ERR_NULL;
     }
@@ -587,14 +590,32 @@ int sl_nvm_unpack(const uint8_t buf[SL_NVM_BYTES], sl_nvm_t *rec)
     r.reserved = (uint16_t)(vw >> 16);
     r.phi_closed_rad = bits_f32(get_u32(buf + 8));
     r.phi_open_rad = bits_f32(get_u32(buf + 12));
-    r.n_learns = get_u32(buf + 16);
-    r.crc32 = get_u32(buf + 20);
-    if (r.magic != SL_NVM_MAGIC || r.version != SL_NVM_VERSION || r.crc32 != sl_crc32(buf, 20u)) {
+    if (r.version == 1u) {
+        /* the stops alone: the baseline none */
+        r.fit_base_r_ohm = 0.0f;
+        r.fit_base_nke_V_s = 0.0f;
+        r.n_learns = get_u32(buf + 16);
+        r.crc32 = get_u32(buf + 20);
+        crc_n = 20u;
+    } else {
+        r.fit_base_r_ohm = bits_f32(get_u32(buf + 16));
+        r.fit_base_nke_V_s = bits_f32(get_u32(buf + 20));
+        r.n_learns = get_u32(buf + 24);
+        r.crc32 = get_u32(buf + 28);
+        crc_n = 28u;
+    }
+    if (r.magic != SL_NVM_MAGIC || (r.version != 1u && r.version != SL_NVM_VERSION) || r.crc32 != sl_crc32(buf, crc_n)) {
         return TV_ERR_FORMAT;
     }
     /* NaN fails every comparison below */
     if (!((tv_real_t)r.phi_closed_rad >= d.closed_min_rad && (tv_real_t)r.phi_closed_rad <= d.closed_max_rad &&
           (tv_real_t)r.phi_open_rad >= d.open_min_rad && (tv_real_t)r.phi_open_rad <= d.open_max_rad)) {
+        return TV_ERR_FORMAT;
+    }
+    /* the baseline: none, or both plausible (NaN and infinities fail the bounds) */
+    if (!((r.fit_base_r_ohm == 0.0f && r.fit_base_nke_V_s == 0.0f) ||
+          (r.fit_base_r_ohm > 0.0f && r.fit_base_r_ohm <= SL_NVM_FIT_BASE_R_MAX_OHM && r.fit_base_nke_V_s > 0.0f &&
+           r.fit_base_nke_V_s <= SL_NVM_FIT_BASE_NKE_MAX_V_S))) {
         return TV_ERR_FORMAT;
     }
     *rec = r;

@@ -29,10 +29,11 @@
  * The module is pure (no hardware, no globals, no heap, bounded work per step): the application
  * (APP_MODE_STOP_LEARN, app.h) feeds it every sample and applies its voltage.
  *
- * Persistence: sl_nvm_t is the record an ECU keeps in non-volatile memory (magic, version,
- * the two angles, CRC-32); sl_nvm_pack() / sl_nvm_unpack() write and validate it. Hosts and the
- * Linux controller write the angles as model.phi_closed_rad / model.phi_open_rad in a
- * parameter file instead.
+ * Persistence: sl_nvm_t is the unit's record an ECU keeps in non-volatile memory (magic,
+ * version, the two angles, the voltage equation fit's per-unit baseline, CRC-32); sl_nvm_pack()
+ * / sl_nvm_unpack() write and validate it (below: how an ECU uses it). Hosts and the Linux
+ * controller write the angles as model.phi_closed_rad / model.phi_open_rad and the baseline as
+ * diag.fit_base_r_ohm / diag.fit_base_nke_V_s in a parameter file instead.
  */
 #ifndef STOP_LEARN_H
 #define STOP_LEARN_H
@@ -205,32 +206,77 @@ int sl_running(const sl_t *sl);
 const char *sl_phase_name(sl_phase_t p);
 const char *sl_error_name(sl_error_t e);
 
-/** Non-volatile record of the learned stops (little-endian, 24 bytes when packed). */
+/**
+ * The unit's non-volatile record: the learned stops and the voltage equation fit's per-unit
+ * baseline (README "A per-unit baseline of the fit"). Little-endian, 32 bytes when packed:
+ *
+ *   offset  0  magic            u32  SL_NVM_MAGIC ("STOP")
+ *           4  version          u16  SL_NVM_VERSION (2)
+ *           6  reserved         u16  0
+ *           8  phi_closed_rad   f32  (IEEE 754 single)
+ *          12  phi_open_rad     f32
+ *          16  fit_base_r_ohm   f32
+ *          20  fit_base_nke_V_s f32
+ *          24  n_learns         u32
+ *          28  crc32            u32  CRC-32 of bytes 0..27
+ *
+ * Version 1 (the stops alone, 24 bytes: n_learns at 16, the CRC-32 of bytes 0..19 at 20) is
+ * still read, so a unit in the field keeps its stops; its baseline reads as none (0, 0).
+ *
+ * How an ECU uses it:
+ *   - at start, sl_nvm_unpack() the stored bytes; on TV_OK put the baseline into use by setting
+ *     cfg.diag.fit_base_r_ohm / fit_base_nke_V_s to the record's before app_init() (app_init()
+ *     takes the configuration's baseline as the one in force, app.c; both 0 leave none, and
+ *     with diag.fit_base_windows > 0 the application then learns one), and the stops by
+ *     app_set_stops() after it. On TV_ERR_FORMAT keep the configuration's (the model's stops,
+ *     no baseline) and write a fresh record once there is something to store.
+ *   - write the record (stops and baseline in use, n_learns counted, version SL_NVM_VERSION)
+ *     when app_output_t::fit_base_state turns APP_FIT_BASE_IN_FORCE with a baseline
+ *     (app_output_t::fit_base_r_ohm, fit_base_nke_V_s, compared as these floats) other than the
+ *     stored one, and after a stop learning that succeeded; a version-1 record is rewritten as
+ *     version 2 then. (The ECU image of this release does not write flash: a tester reads the
+ *     baseline off TV_HEALTH_5 and the stops off TV_HEALTH_2.)
+ */
 typedef struct {
     uint32_t magic;          /**< SL_NVM_MAGIC */
-    uint16_t version;        /**< SL_NVM_VERSION */
+    uint16_t version;        /**< SL_NVM_VERSION; sl_nvm_unpack() reports the record's (1 for an old one) */
     uint16_t reserved;       /**< 0 */
     float phi_closed_rad;    /**< learned closed stop [rad] */
     float phi_open_rad;      /**< learned open stop [rad] */
+    float fit_base_r_ohm;    /**< the fit's per-unit baseline: R at 20 degC [ohm]; 0 = none (both or neither) */
+    float fit_base_nke_V_s;  /**< its n Ke at the plate [V s/rad]; 0 = none */
     uint32_t n_learns;       /**< learns since the record was created */
-    uint32_t crc32;          /**< CRC-32 (IEEE 802.3) of the 20 bytes before it */
+    uint32_t crc32;          /**< CRC-32 (IEEE 802.3) of the 28 bytes before it (version 1: of 20) */
 } sl_nvm_t;
 
 #define SL_NVM_MAGIC 0x53544F50u /* "STOP" */
-#define SL_NVM_VERSION 1u
-#define SL_NVM_BYTES 24u
+#define SL_NVM_VERSION 2u
+#define SL_NVM_BYTES 32u
+/** A version-1 record's length [bytes] (no baseline; its CRC at offset 20). */
+#define SL_NVM_V1_BYTES 24u
+/** The baseline a record may hold: both 0 (none), or R in (0, SL_NVM_FIT_BASE_R_MAX_OHM] and
+ *  n Ke in (0, SL_NVM_FIT_BASE_NKE_MAX_V_S], the ranges of the parameter files and the Linux
+ *  configuration (diag.fit_base_r_ohm, diag.fit_base_nke_V_s). stop_learn knows no model: the
+ *  application's +-30 % / +-15 % of the model's (APP_FIT_BASE_R_BAND, _K_BAND) apply to a
+ *  learned baseline, not to a stored one. */
+#define SL_NVM_FIT_BASE_R_MAX_OHM 1000.0f
+#define SL_NVM_FIT_BASE_NKE_MAX_V_S 100.0f
 
 /** CRC-32 (IEEE 802.3, reflected, init and final xor 0xFFFFFFFF) of n bytes: rawlog_crc32(), the
  *  log format's CRC, from the start value 0. */
 uint32_t sl_crc32(const uint8_t *data, uint32_t n);
 
-/** Pack rec into buf[SL_NVM_BYTES] (little-endian), computing its CRC. TV_OK or TV_ERR_NULL. */
+/** Pack rec into buf[SL_NVM_BYTES] (little-endian, the version-2 layout; magic and version as
+ *  rec has them), computing its CRC. Nothing is validated. TV_OK or TV_ERR_NULL. */
 int sl_nvm_pack(const sl_nvm_t *rec, uint8_t buf[SL_NVM_BYTES]);
 
 /**
- * Unpack and validate buf: magic, version, CRC, angles finite and inside the default
- * plausibility windows. @return TV_OK; TV_ERR_NULL; TV_ERR_FORMAT (any check failed: *rec is
- * not written, the caller keeps its model's stops).
+ * Unpack and validate buf: magic, version (2, or 1: its 24-byte layout, only buf[0..23] read,
+ * the rest of the buffer, erased flash or anything, ignored; the baseline then 0, 0), CRC,
+ * angles finite and inside the default plausibility windows, the baseline both 0 or both
+ * finite, > 0 and within SL_NVM_FIT_BASE_R_MAX_OHM / SL_NVM_FIT_BASE_NKE_MAX_V_S.
+ * @return TV_OK; TV_ERR_NULL; TV_ERR_FORMAT (any check failed: *rec is not written, the caller
+ *         keeps its model's stops and no baseline).
  */
 int sl_nvm_unpack(const uint8_t buf[SL_NVM_BYTES], sl_nvm_t *rec);
 
