@@ -257,12 +257,13 @@ typedef struct {
                                           [A]; NaN when no window gave one */
     double i_off_fit_sigma_A;        /**< its standard deviation [A] (NaN likewise) */
     uint32_t fit_windows;            /**< windows the fit took */
+    /* (the two here fill the padding after fit_windows) */
+    uint16_t fit_base_windows;       /**< the last step's app_output_t::fit_base_windows: windows summed toward
+                                          learning the baseline below */
+    uint8_t fit_base_state;          /**< the last step's app_output_t::fit_base_state (APP_FIT_BASE_*) */
     double fit_base_r_ohm;           /**< the fit's per-unit baseline at the end (given or learned: app_t::fit_base_r_ohm),
                                           R at 20 degC [ohm]; NaN when none */
     double fit_base_nke_V_s;         /**< its n Ke [V s/rad]; NaN when none */
-    uint8_t fit_base_state;          /**< the last step's app_output_t::fit_base_state (APP_FIT_BASE_*) */
-    uint16_t fit_base_windows;       /**< the last step's app_output_t::fit_base_windows: windows summed toward
-                                          the learning under way */
     double friction_rel;             /**< the filter's friction level relative to its model's, 1 + f, at the end [-] */
     double friction_rel_sigma;       /**< its standard deviation [-] (0: no friction-error state) */
     double friction_rel_true;        /**< the plant's Coulomb friction relative to the filter model's [-] */
