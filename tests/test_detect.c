@@ -3062,6 +3062,20 @@ static void test_fit_baseline_learned_and_used(void)
         TV_CHECK(isfinite(r.fit_base_nke_V_s) && fabs(r.fit_base_nke_V_s / r.nke_true_V_s - 1.0) < 0.015);
         printf("  unit %llu: baseline R %.4f of the plant's, n Ke %.4f\n", (unsigned long long)units[u],
                r.fit_base_r_ohm / r.r_true_20_ohm, r.fit_base_nke_V_s / r.nke_true_V_s);
+        /* learned once: a winding drifting slowly, +50 % over 200 s from 8 s into the run, after
+         * the baseline was learned, is judged against the healthy unit (a baseline that kept
+         * learning would follow the drift, and P2101 would not confirm) and the baseline stays */
+        {
+            const double r_learned = r.fit_base_r_ohm;
+            opt.duration_s = 120.0;
+            sim_fault_run_opt(&opt, "winding_resistance_high:1.5@8.0:200", &r);
+            opt.duration_s = 30.0;
+            TV_CHECK(r.fit_base_r_ohm == r_learned);
+            TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2101]) && r.dtc_confirm_t_s[DIAG_DTC_P2101] > 8.0);
+            printf("  unit %llu: R drifting +50 %% over 200 s from 8 s: P2101 at %.2f s (R x %.3f then)\n",
+                   (unsigned long long)units[u], r.dtc_confirm_t_s[DIAG_DTC_P2101],
+                   1.0 + 0.5 * (r.dtc_confirm_t_s[DIAG_DTC_P2101] - 8.0) / 200.0);
+        }
         lc.diag.fit_base_r_ohm = (tv_real_t)r.fit_base_r_ohm;
         lc.diag.fit_base_nke_V_s = (tv_real_t)r.fit_base_nke_V_s;
         /* the class's bounds: a gain of +5 % not confirmed (its R reads inside the class's spread) */
