@@ -61,7 +61,10 @@ def synthetic(d):
     with open(os.path.join(d, "runs", "healthy.json"), "w") as f:
         json.dump({"runs": 2, "all_varied_fit_baseline": {"units": 2, "failed": 1, "r_rel_min": 0.9991,
                                                           "r_rel_max": 1.0012, "nke_rel_min": 0.9950,
-                                                          "nke_rel_max": 0.9978}}, f)
+                                                          "nke_rel_max": 0.9978},
+                   "stops_varied_friction_baseline": {"units": 2, "at_class_bound": 0, "bound_min": 1.132,
+                                                      "bound_max": 1.167, "fast_bound_min": 1.16,
+                                                      "fast_bound_max": 1.328}}, f)
     subprocess.run([sys.executable, SCRIPT, d, soak], check=True, stdout=subprocess.DEVNULL)
     s = json.load(open(os.path.join(d, "summary.json")))
     check(s["fit_baseline"] == {"all_varied": {"units": 2, "failed": 1, "r_rel_min": 0.9991, "r_rel_max": 1.0012,
@@ -69,6 +72,12 @@ def synthetic(d):
           "the units' fit baselines, from the healthy runs' population summary")
     check("Fit baseline, all_varied: 2 units, 1 without one; R at 20 degC 0.9991 - 1.0012 of the plant's, n Ke "
           "0.9950 - 0.9978." in open(os.path.join(d, "matrix.md")).read(), "matrix.md names the fit baselines")
+    check(s["friction_baseline"] == {"stops_varied": {"units": 2, "at_class_bound": 0, "bound_min": 1.132,
+                                                      "bound_max": 1.167, "fast_bound_min": 1.16,
+                                                      "fast_bound_max": 1.328}},
+          "the units' friction bounds, from the healthy runs' population summary")
+    check("Friction bound, stops_varied: 2 units, 0 at the class's; the adapted level's 1.132 - 1.167, the "
+          "signature's 1.160 - 1.328." in open(os.path.join(d, "matrix.md")).read(), "matrix.md names the friction bounds")
     j = s["classes"]["jam"]
     check(j["runs"] == 5, "5 jam runs")
     check(abs(j["detection_rate"] - 0.8) < 1e-12, "jam detected in 4 of 5 runs")

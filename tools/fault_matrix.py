@@ -41,7 +41,9 @@ summary also gives the estimate's relative error at the end of the run, |estimat
 "fit_baseline": per section, the units' baselines of the voltage equation's fit as the healthy
 runs' population summary (DIR/runs/healthy.json, population --fit-baseline on) gives them: units,
 failed (none learned), the learned R at 20 degC and n Ke over the plant's, min and max; {} when
-the units ran without one.
+the units ran without one. "friction_baseline": likewise the friction check's per-unit bounds
+(population --friction-baseline on): units, at_class_bound, bound_min / bound_max (the adapted
+level's), fast_bound_min / fast_bound_max (the torque signature's); {} without.
 
 usage: fault_matrix.py DIR [SOAK_SUMMARY_JSON]
 """
@@ -278,11 +280,14 @@ def main():
     # the units' fit baselines (population --fit-baseline on), as the healthy runs' population
     # summary gives them: per section units, failed, and the learned values over the plant's
     fit_baseline = {}
+    friction_baseline = {}
     healthy_json = os.path.join(d, "runs", "healthy.json")
     if os.path.exists(healthy_json):
         with open(healthy_json) as f:
             pop = json.load(f)
         fit_baseline = {k[:-len("_fit_baseline")]: v for k, v in sorted(pop.items()) if k.endswith("_fit_baseline")}
+        friction_baseline = {k[:-len("_friction_baseline")]: v for k, v in sorted(pop.items())
+                             if k.endswith("_friction_baseline")}
     total = Tally()
     for t in per_class.values():
         total.merge(t)
@@ -301,6 +306,7 @@ def main():
         "soak_false_alarms": soak["false_alarms_healthy"] if soak else 0,
         "scenarios": sorted(scenarios),
         "fit_baseline": fit_baseline,
+        "friction_baseline": friction_baseline,
     }
     summary["false_alarms_healthy"] = healthy_alarms + summary["soak_false_alarms"]
     summary["healthy_seconds"] = healthy_seconds + summary["soak_seconds"]
@@ -386,6 +392,11 @@ def main():
         lines.append("Fit baseline, %s: %s units, %s without one; R at 20 degC %s - %s of the plant's, n Ke %s - %s." % (
             sec, b.get("units"), b.get("failed"), fmt(b.get("r_rel_min"), 1, 4), fmt(b.get("r_rel_max"), 1, 4),
             fmt(b.get("nke_rel_min"), 1, 4), fmt(b.get("nke_rel_max"), 1, 4)))
+    for sec, b in friction_baseline.items():
+        lines.append("Friction bound, %s: %s units, %s at the class's; the adapted level's %s - %s, the signature's "
+                     "%s - %s." % (sec, b.get("units"), b.get("at_class_bound"), fmt(b.get("bound_min"), 1, 3),
+                                   fmt(b.get("bound_max"), 1, 3), fmt(b.get("fast_bound_min"), 1, 3),
+                                   fmt(b.get("fast_bound_max"), 1, 3)))
     text = "\n".join(lines) + "\n"
     with open(os.path.join(d, "matrix.md"), "w") as f:
         f.write(text)

@@ -8,7 +8,9 @@
 # all_varied_identified: the same units, the filter on the parameters identify found in each
 # unit's healthy end-of-line log, diag.identified = 1; the stops_varied and all_varied units with
 # the voltage equation's fit's per-unit baseline learned in 30 s of healthy driving,
-# population --fit-baseline on, README "A per-unit baseline of the fit")
+# population --fit-baseline on, README "A per-unit baseline of the fit", and the friction check's
+# per-unit bound learned in 15 s of each matrix scenario, population --friction-baseline on, README
+# "A per-unit bound of the friction check")
 # x noise seeds, the fault injected at ONSET s into runs of DURATION s, every unit's winding at
 # 20 degC and the application told so (--temp-reading plant: the CAN command's WindingTemp, so
 # an identified unit's resistance bound is 1.15 R, firmware/diag/diag_detect.h); the same runs
@@ -81,6 +83,7 @@ specs=(
   supply_sag:2 supply_sag:3 supply_sag:5
 )
 common=(--plants "$plants" --seeds "$seeds" --sections stops,all,identified --scenarios "$scenarios" --duration "$duration" --fit-baseline on
+  --friction-baseline on
   --temp-reading plant)
 pop=build/host-release/bin/population
 echo "fault matrix: ${#specs[@]} fault specs + healthy, ${plants} units x 3 sections x ${scenarios//,/ } x ${seeds} seed(s), ${duration} s runs, onset ${ONSET} s" >&2
@@ -104,7 +107,7 @@ if [[ -n $soak_from && ! -f $soak_from ]]; then
 fi
 if ((soak)); then
   echo "healthy soak: ${soak_duration} s per run (tools/run_healthy_soak.sh)" >&2
-  tools/run_healthy_soak.sh --duration "$soak_duration" --temp-reading plant --fit-baseline on \
+  tools/run_healthy_soak.sh --duration "$soak_duration" --temp-reading plant --fit-baseline on --friction-baseline on \
     --scenarios paper_sine,closed_steps,closed_ramp,chirp,slow_sine,open_steps,standstill,limp_home,drive >&2
   soak_json=out/soak/summary.json
 fi

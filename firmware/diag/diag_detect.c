@@ -142,10 +142,10 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
         cfg->fit_base_r_ohm < TV_R(0.0) || cfg->fit_base_nke_V_s < TV_R(0.0) ||
         (cfg->fit_base_r_ohm > TV_R(0.0)) != (cfg->fit_base_nke_V_s > TV_R(0.0)) ||
         !(cfg->r_low_frac_known < TV_R(1.0)) ||
-        !(cfg->friction_high_rel > TV_R(1.0)) || !(cfg->preload_low_rel < TV_R(1.0)) ||
+        !(cfg->friction_high_rel > TV_R(0.0)) || !(cfg->preload_low_rel < TV_R(1.0)) ||
         !(cfg->bridge_lost_frac < TV_R(1.0)) || !(cfg->isens_vif_max >= TV_R(1.0)) || !(cfg->isens_fit_vif_max >= TV_R(1.0)) ||
         cfg->torque_tau_samples < TV_R(10.0) || !(cfg->torque_corr_max < TV_R(1.0)) ||
-        !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(1.0)) || cfg->param_slow_hold == 0u ||
+        !(cfg->preload_fast_low < TV_R(1.0)) || !(cfg->friction_fast_high > TV_R(0.0)) || cfg->param_slow_hold == 0u ||
         !(cfg->probe_friction_frac < TV_R(1.0)) || !(cfg->gain_r_max < TV_R(1.0)) || !(cfg->gain_r_known_max < TV_R(1.0)) ||
         !(cfg->isens_sig_friction_low < TV_R(1.0)) || !(cfg->ke_short_max < TV_R(1.0)) || !(cfg->gain_mech_min > TV_R(1.0)) ||
         cfg->gain_hold_checks == 0u || cfg->isens_sig_checks == 0u || !(cfg->open_emf_allow_V >= TV_R(0.0)) ||

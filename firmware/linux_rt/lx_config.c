@@ -119,6 +119,9 @@ static const key_desc_t s_keys[] = {
     NUM("stop_learn.k_max_Nm_rad", K_DOUBLE, 1e-9, 1e7, sl_k_max_Nm_rad, 0),
     NUM("diag.identified", K_BOOL, 0, 1, diag_identified, 0),
     NUM("diag.r_fit_high_frac", K_DOUBLE, 1, 3, diag_r_fit_high_frac, 0),
+    NUM("diag.friction_high_rel", K_DOUBLE, 0, 3, diag_friction_high_rel, 0),
+    NUM("diag.friction_fast_high", K_DOUBLE, 0, 3, diag_friction_fast_high, 0),
+    NUM("diag.friction_fast_level_min", K_DOUBLE, 0, 3, diag_friction_fast_level_min, 0),
     NUM("diag.fit_base_r_ohm", K_DOUBLE, 0, 1000, diag_fit_base_r_ohm, 0),
     NUM("diag.fit_base_nke_V_s", K_DOUBLE, 0, 100, diag_fit_base_nke_V_s, 0),
     NUM("diag.fit_base_windows", K_U16, 0, 65535, diag_fit_base_windows, 0),
@@ -169,6 +172,9 @@ static const real_key_t s_sl_keys[] = {
  * (after diag.identified, which selects the set they amend). */
 static const real_key_t s_diag_keys[] = {
     {OFF(diag_r_fit_high_frac), offsetof(diag_detect_config_t, r_fit_high_frac)},
+    {OFF(diag_friction_high_rel), offsetof(diag_detect_config_t, friction_high_rel)},
+    {OFF(diag_friction_fast_high), offsetof(diag_detect_config_t, friction_fast_high)},
+    {OFF(diag_friction_fast_level_min), offsetof(diag_detect_config_t, friction_fast_level_min)},
     {OFF(diag_fit_base_r_ohm), offsetof(diag_detect_config_t, fit_base_r_ohm)},
     {OFF(diag_fit_base_nke_V_s), offsetof(diag_detect_config_t, fit_base_nke_V_s)},
     {OFF(diag_r_fit_base_high_frac), offsetof(diag_detect_config_t, r_fit_base_high_frac)},

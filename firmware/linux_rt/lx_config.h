@@ -89,6 +89,9 @@ typedef struct {
     double sl_k_max_Nm_rad;       /**< stop_learn.k_max_Nm_rad */
     int32_t diag_identified;      /**< diag.identified: 1 = the identified unit's bounds; default 0 */
     double diag_r_fit_high_frac;  /**< diag.r_fit_high_frac (NaN = not given: the default bound) */
+    double diag_friction_high_rel; /**< diag.friction_high_rel (NaN = not given: the default bound) */
+    double diag_friction_fast_high; /**< diag.friction_fast_high (NaN = not given: the default bound) */
+    double diag_friction_fast_level_min; /**< diag.friction_fast_level_min (NaN = not given: the default) */
     double diag_fit_base_r_ohm;   /**< diag.fit_base_r_ohm: the fit's per-unit baseline (NaN = not given: none) */
     double diag_fit_base_nke_V_s; /**< diag.fit_base_nke_V_s (NaN = not given: none) */
     uint16_t diag_fit_base_windows; /**< diag.fit_base_windows: learn the baseline over this many windows; default 0 */

@@ -19,7 +19,7 @@ enum {
     K_R = 0, K_L, K_KE, K_KT, K_J, K_N, K_MC, K_M0, K_C, K_KV, K_MS, K_WS, K_PHI_CLOSED, K_PHI_OPEN, K_K_STOP,
     K_D_STOP, K_STOP_EXP, K_E_PHI, K_E_W, K_SUBSTEPS,
     K_QU, K_QT, K_R_CURRENT, K_R_VELOCITY, K_R_ANGLE, K_CONTACT_BAND, K_QC, K_STOP_LEARN, K_QD_CONTACT, K_QD_FREE, K_D_TAU, K_CONTACT_GATE, K_CONTACT_COUPLING, K_QT_REL, K_IMPACT_TIMING, K_IL_ENABLE, K_IL_GAIN, K_SL_E_MIN, K_SL_E_MAX, K_SL_LAMBDA, K_SL_K_MIN, K_SL_K_MAX,
-    K_QR, K_R_SIGMA0, K_DR_MAX, K_DR_EXCITE, K_QF, K_F_SIGMA0, K_F_MAX, K_F_EXCITE, K_QM, K_M_SIGMA0, K_M_MAX, K_NIS_ALPHA, K_NIS_TH, K_NIS_MAX, K_WHITE_TH, K_STUCK_Q_MIN, K_STUCK_HOLD, K_DIAG_IDENTIFIED, K_DIAG_R_FIT,
+    K_QR, K_R_SIGMA0, K_DR_MAX, K_DR_EXCITE, K_QF, K_F_SIGMA0, K_F_MAX, K_F_EXCITE, K_QM, K_M_SIGMA0, K_M_MAX, K_NIS_ALPHA, K_NIS_TH, K_NIS_MAX, K_WHITE_TH, K_STUCK_Q_MIN, K_STUCK_HOLD, K_DIAG_IDENTIFIED, K_DIAG_R_FIT, K_DIAG_FRIC_HIGH, K_DIAG_FRIC_FAST, K_DIAG_FRIC_LEVEL,
     K_DIAG_FIT_BASE_R, K_DIAG_FIT_BASE_NKE, K_DIAG_FIT_BASE_WINDOWS, K_DIAG_R_FIT_BASE, K_DIAG_GAIN_FIT_BASE,
     K_CAL_CUR_OFF, K_CAL_CUR_GAIN, K_CAL_TPS1_ZERO, K_CAL_TPS1_GAIN, K_CAL_TPS2_ZERO, K_CAL_TPS2_GAIN, K_CAL_SUPPLY,
     K_LIM_CUR_MIN, K_LIM_CUR_MAX, K_LIM_TPS_MIN, K_LIM_TPS_MAX, K_LIM_DISAGREE, K_LIM_SUP_MIN, K_LIM_SUP_MAX,
@@ -389,6 +389,9 @@ static tv_real_t *real_field(app_config_t *c, int k)
     case K_SL_K_MIN: return &c->stop_learn.k_min;
     case K_SL_K_MAX: return &c->stop_learn.k_max;
     case K_DIAG_R_FIT: return &c->diag.r_fit_high_frac;
+    case K_DIAG_FRIC_HIGH: return &c->diag.friction_high_rel;
+    case K_DIAG_FRIC_FAST: return &c->diag.friction_fast_high;
+    case K_DIAG_FRIC_LEVEL: return &c->diag.friction_fast_level_min;
     case K_DIAG_FIT_BASE_R: return &c->diag.fit_base_r_ohm;
     case K_DIAG_FIT_BASE_NKE: return &c->diag.fit_base_nke_V_s;
     case K_DIAG_R_FIT_BASE: return &c->diag.r_fit_base_high_frac;

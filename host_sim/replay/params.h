@@ -38,7 +38,7 @@ extern "C" {
 /** Longest line of a parameter file, terminator excluded [bytes]. */
 #define PARAMS_LINE_MAX 1024u
 /** Number of keys. */
-#define PARAMS_NKEYS 82
+#define PARAMS_NKEYS 85
 /** Room for the file name kept for messages [bytes]. */
 #define PARAMS_NAME_MAX 256u
 /** Room a message needs [bytes]. */

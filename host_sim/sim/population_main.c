@@ -61,6 +61,15 @@ enum { POP_SEC_STOPS = 0, POP_SEC_ALL = 1, POP_SEC_ADAPTED = 2, POP_SEC_IDENT = 
 #define POP_BASE_WINDOWS 16u
 /** ... and the winding's temperature then, told exactly [degC] */
 #define POP_BASE_TEMP_C 20.0
+/** --friction-baseline: each learning run's length [s] (one per scenario of s_fric_scn, plant noise
+ *  seed POP_BASE_SEED), the margin over the largest friction level its check judged [-] and the
+ *  lowest bound it may give (a unit whose friction reads below the model's) [-]. */
+#define POP_FRIC_S 15.0
+#define POP_FRIC_MARGIN 1.12
+#define POP_FRIC_BOUND_MIN 0.5
+/** ... and the adapted level the signature's reading needs beside it: this much below the bound [-]
+ *  (diag_detect_config_identified(): 1.15 and 1.1). */
+#define POP_FRIC_LEVEL_BELOW 0.05
 static const char *const s_sec_name[POP_NSEC] = {"stops_varied", "all_varied", "all_varied_adapted",
                                                  "all_varied_identified"};
 static const char *const s_sec_short[POP_NSEC] = {"stops", "all", "adapted", "identified"};
@@ -131,6 +140,22 @@ typedef struct {
 } pop_base_t;
 
 static pop_base_t s_base[POP_NSEC];
+
+/** --friction-baseline: the friction check's per-unit bound learned in healthy runs (learn_friction_bound()). */
+typedef struct {
+    unsigned units;       /**< units whose learning runs ran */
+    unsigned at_class;    /**< units whose bound is the class's (their healthy reading reaches it) */
+    double bound_min;     /**< smallest learned bound [-] */
+    double bound_max;     /**< largest */
+    double fast_min;      /**< smallest learned bound of the torque signature's friction [-] */
+    double fast_max;      /**< largest */
+} pop_fric_t;
+
+static pop_fric_t s_fric[POP_NSEC];
+/** The scenarios of the friction bound's learning runs: closed-loop driving and steps, the paper's
+ *  sine, a slow sine and returns to limp-home (a commissioning drive through the regimes of service). */
+static const sim_scenario_t s_fric_scn[] = {SIM_SCN_DRIVE, SIM_SCN_CLOSED_STEPS, SIM_SCN_PAPER_SINE, SIM_SCN_SLOW_SINE,
+                                            SIM_SCN_LIMP_HOME};
 /** --fault: injected into every scored run (not into the stop learning nor the nominal unit's run). */
 static plant_fault_list_t s_faults;
 /** --winding-temp, --temp-reading: every run of every unit (stop learning, identification, scored). */
@@ -239,6 +264,57 @@ static int learn_fit_base(const plant_config_t *pc, app_config_t *ac, uint64_t u
     b->k_rel_max = max_finite(b->k_rel_max, r.fit_base_nke_V_s / r.nke_true_V_s);
     ac->diag.fit_base_r_ohm = (tv_real_t)r.fit_base_r_ohm;
     ac->diag.fit_base_nke_V_s = (tv_real_t)r.fit_base_nke_V_s;
+    return TV_OK;
+}
+
+/* --friction-baseline: the friction check's bound for this unit (diag.friction_high_rel, README
+ * "A per-unit bound of the friction check"): the largest friction level 1 + f its check judged in
+ * POP_FRIC_S of each scenario of s_fric_scn on the healthy unit (plant noise seed POP_BASE_SEED,
+ * none of the scored seeds), times POP_FRIC_MARGIN, no higher than the class's bound (ac's) and no
+ * lower than POP_FRIC_BOUND_MIN; into ac, stats into *b. */
+static int learn_friction_bound(const plant_config_t *pc, app_config_t *ac, pop_fric_t *b)
+{
+    sim_options_t opt;
+    sim_result_t r;
+    double seen = NAN;
+    double seen_fast = NAN;
+    double bound;
+    double fast;
+    size_t k;
+    for (k = 0; k < sizeof s_fric_scn / sizeof s_fric_scn[0]; ++k) {
+        int rc;
+        pre_options(&opt, s_fric_scn[k], POP_FRIC_S, POP_BASE_SEED, pc, ac);
+        opt.winding_temp_C = POP_BASE_TEMP_C;
+        opt.temp_reading = 1;
+        opt.temp_reading_C = POP_BASE_TEMP_C;
+        rc = sim_run(&opt, &r);
+        if (rc != TV_OK) {
+            return rc;
+        }
+        seen = max_finite(seen, r.friction_check_max);
+        seen_fast = max_finite(seen_fast, r.friction_fast_max);
+    }
+    ++b->units;
+    bound = isfinite(seen) ? seen * POP_FRIC_MARGIN : (double)ac->diag.friction_high_rel;
+    if (bound >= (double)ac->diag.friction_high_rel) {
+        bound = (double)ac->diag.friction_high_rel;
+        ++b->at_class;
+    }
+    bound = bound < POP_FRIC_BOUND_MIN ? POP_FRIC_BOUND_MIN : bound;
+    b->bound_min = min_finite(b->bound_min, bound);
+    b->bound_max = max_finite(b->bound_max, bound);
+    ac->diag.friction_high_rel = (tv_real_t)bound;
+    /* the torque signature's friction likewise, and the level it needs beside it */
+    fast = isfinite(seen_fast) ? seen_fast * POP_FRIC_MARGIN : (double)ac->diag.friction_fast_high;
+    fast = fast > (double)ac->diag.friction_fast_high ? (double)ac->diag.friction_fast_high
+           : fast < POP_FRIC_BOUND_MIN               ? POP_FRIC_BOUND_MIN
+                                                     : fast;
+    b->fast_min = min_finite(b->fast_min, fast);
+    b->fast_max = max_finite(b->fast_max, fast);
+    ac->diag.friction_fast_high = (tv_real_t)fast;
+    if ((double)ac->diag.friction_fast_level_min > bound - POP_FRIC_LEVEL_BELOW) {
+        ac->diag.friction_fast_level_min = (tv_real_t)(bound - POP_FRIC_LEVEL_BELOW);
+    }
     return TV_OK;
 }
 
@@ -418,7 +494,7 @@ static void usage(FILE *f)
     fprintf(f,
             "usage: %s [--plants N] [--seeds S] [--first-unit ID] [--first-seed F] [--scenarios A,B,...]\n"
             "          [--duration S] [--sections LIST] [--params FILE] [--stop-learning on|off]\n"
-            "          [--fit-baseline on|off] [--json PATH] [--runs-csv PATH] [--params-out DIR] [--fault SPEC ...]\n"
+            "          [--fit-baseline on|off] [--friction-baseline on|off] [--json PATH] [--runs-csv PATH] [--params-out DIR] [--fault SPEC ...]\n"
             "          [--winding-temp DEGC] [--temp-reading plant|none|DEGC] [--quick] [--help]\n"
             "\n"
             "Runs the application's estimator (double build) on a population of throttles\n"
@@ -456,6 +532,12 @@ static void usage(FILE *f)
             "                    in 30 s of healthy closed-loop driving at 20 degC, told exactly (seed\n"
             "                    900002), and its checks judge the fit against it; off (default):\n"
             "                    against the class's model\n"
+            "  --friction-baseline on|off  on: each stops_varied and all_varied unit's friction check\n"
+            "                    gets its own bound (diag.friction_high_rel, diag.friction_fast_high):\n"
+            "                    1.12 x the largest friction level (and torque signature's friction)\n"
+            "                    it judged in 15 s of each of drive, closed_steps, paper_sine,\n"
+            "                    slow_sine and limp_home on the healthy unit (seed 900002), no\n"
+            "                    higher than the class's; off (default): the class's bounds\n"
             "  --json PATH       summary (default out/population/summary.json)\n"
             "  --runs-csv PATH   also one line per run (t_condition_s: when a jam, an open winding or a\n"
             "                    spring fault first became observable, host_sim/sim/sim_fault_cond.h)\n"
@@ -625,10 +707,11 @@ int main(int argc, char **argv)
     int k;
     int sec;
     static const char *const takes_value[] = {"--plants", "--seeds", "--first-unit", "--first-seed", "--scenarios", "--duration",
-                                              "--sections", "--params", "--json", "--runs-csv", "--stop-learning", "--fit-baseline",
+                                              "--sections", "--params", "--json", "--runs-csv", "--stop-learning", "--fit-baseline", "--friction-baseline",
                                               "--params-out", "--fault", "--winding-temp", "--temp-reading", NULL};
     int stop_learning = 1;
     int fit_baseline = 0;
+    int friction_baseline = 0;
 
     cli_temps_default(&s_temps);
     for (k = 0; k < (int)SIM_SCN_COUNT; ++k) {
@@ -639,6 +722,7 @@ int main(int argc, char **argv)
     for (k = 0; k < POP_NSEC; ++k) {
         s_learn[k].err_closed_max = s_learn[k].err_open_max = s_learn[k].speed_max = s_learn[k].time_max_s = (double)NAN;
         s_base[k].r_rel_min = s_base[k].r_rel_max = s_base[k].k_rel_min = s_base[k].k_rel_max = (double)NAN;
+        s_fric[k].bound_min = s_fric[k].bound_max = s_fric[k].fast_min = s_fric[k].fast_max = (double)NAN;
     }
     for (k = 1; k < argc; ++k) {
         const char *a = argv[k];
@@ -732,9 +816,9 @@ int main(int argc, char **argv)
             } else {
                 return usage_error("option %s: '%s' is not on or off", a, v);
             }
-        } else if (strcmp(a, "--fit-baseline") == 0) {
+        } else if (strcmp(a, "--fit-baseline") == 0 || strcmp(a, "--friction-baseline") == 0) {
             if (strcmp(v, "on") == 0 || strcmp(v, "off") == 0) {
-                fit_baseline = strcmp(v, "on") == 0;
+                *(strcmp(a, "--fit-baseline") == 0 ? &fit_baseline : &friction_baseline) = strcmp(v, "on") == 0;
             } else {
                 return usage_error("option %s: '%s' is not on or off", a, v);
             }
@@ -777,7 +861,7 @@ int main(int argc, char **argv)
             return 1;
         }
         fprintf(csv, "section,unit,class,scenario,seed,rmse_filter_rad_s,rmse_diff_rad_s,ratio,nees_avg,nees_window_max,"
-                     "consistency_flagged,faults,dtc_confirmed,dtc_pending,dtc_first_s,duration_s,r_est_ohm,r_true_ohm,friction_rel,friction_rel_true,preload_rel,"
+                     "consistency_flagged,faults,dtc_confirmed,dtc_pending,dtc_first_s,duration_s,r_est_ohm,r_true_ohm,friction_rel,friction_rel_true,friction_check_max,preload_rel,"
                      "preload_rel_true,r_fit_ohm,r_fit_sigma_ohm,nke_fit_V_s_rad,nke_fit_sigma_V_s_rad,nke_true_V_s_rad,i_off_fit_A,i_off_fit_sigma_A,contact_k,contact_exponent,contact_alpha_s_rad,impacts_learned,t_condition_s,injected,dtc_codes\n");
     }
 
@@ -844,6 +928,9 @@ int main(int argc, char **argv)
             }
             if (rc == TV_OK && fit_baseline && (sec == POP_SEC_STOPS || sec == POP_SEC_ALL)) {
                 rc = learn_fit_base(&pc, &ac, unit, &s_base[sec]);
+            }
+            if (rc == TV_OK && friction_baseline && (sec == POP_SEC_STOPS || sec == POP_SEC_ALL)) {
+                rc = learn_friction_bound(&pc, &ac, &s_fric[sec]);
             }
             if (rc != TV_OK) {
                 fprintf(stderr, "%s: unit %llu: %s\n", s_prog, (unsigned long long)unit, tv_status_str(rc));
@@ -912,8 +999,9 @@ int main(int argc, char **argv)
                                 (unsigned long long)unit, plant_class_name(cls), sim_scenario_name(opt.scenario), s,
                                 run->rmse_filter, run->rmse_diff, run->ratio, run->nees_avg, run->nees_win_max, run->flagged,
                                 (int)r.faults, (unsigned long)run->dtc, (unsigned long)run->dtc_pending, run->dtc_first_s);
-                        fprintf(csv, "%.4f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,", r.duration_s - opt.warmup_s, r.r_est_ohm,
-                                r.r_true_ohm, r.friction_rel, r.friction_rel_true, r.preload_rel, r.preload_rel_true);
+                        fprintf(csv, "%.4f,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,", r.duration_s - opt.warmup_s, r.r_est_ohm,
+                                r.r_true_ohm, r.friction_rel, r.friction_rel_true, r.friction_check_max, r.preload_rel,
+                                r.preload_rel_true);
                         fprintf(csv, "%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,", r.r_fit_ohm, r.r_fit_sigma_ohm, r.nke_fit_V_s,
                                 r.nke_fit_sigma_V_s, r.nke_true_V_s, r.i_off_fit_A, r.i_off_fit_sigma_A);
                         fprintf(csv, "%.6g,%.6g,%.6g,%lu,%.4f,", r.contact_k, r.contact_exponent, r.contact_alpha_s_rad,
@@ -965,6 +1053,11 @@ int main(int argc, char **argv)
             printf("  fit baseline: %u units, %u without one; learned R / plant's at 20 degC %.4f - %.4f, n Ke / plant's "
                    "%.4f - %.4f\n",
                    b->units, b->failed, b->r_rel_min, b->r_rel_max, b->k_rel_min, b->k_rel_max);
+        }
+        if (s_fric[sec].units > 0u) {
+            const pop_fric_t *b = &s_fric[sec];
+            printf("  friction bound: %u units (%u at the class's); learned %.3f - %.3f, the signature's %.3f - %.3f\n",
+                   b->units, b->at_class, b->bound_min, b->bound_max, b->fast_min, b->fast_max);
         }
     }
 
@@ -1049,6 +1142,19 @@ int main(int argc, char **argv)
                 fprintf(f, ", \"%s\": ", key[q]);
                 json_num(f, v[q]);
             }
+            fputs("}", f);
+        }
+        if (s_fric[sec].units > 0u) {
+            const pop_fric_t *b = &s_fric[sec];
+            fprintf(f, ",\n  \"%s_friction_baseline\": {\"units\": %u, \"at_class_bound\": %u, \"bound_min\": ",
+                    s_sec_name[sec], b->units, b->at_class);
+            json_num(f, b->bound_min);
+            fputs(", \"bound_max\": ", f);
+            json_num(f, b->bound_max);
+            fputs(", \"fast_bound_min\": ", f);
+            json_num(f, b->fast_min);
+            fputs(", \"fast_bound_max\": ", f);
+            json_num(f, b->fast_max);
             fputs("}", f);
         }
         fprintf(f, ",\n  \"%s_per_scenario\": {", s_sec_name[sec]);

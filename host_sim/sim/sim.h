@@ -267,6 +267,10 @@ typedef struct {
     double friction_rel;             /**< the filter's friction level relative to its model's, 1 + f, at the end [-] */
     double friction_rel_sigma;       /**< its standard deviation [-] (0: no friction-error state) */
     double friction_rel_true;        /**< the plant's Coulomb friction relative to the filter model's [-] */
+    double friction_check_max;       /**< the largest 1 + f the friction check judged: at a step whose sigma(f) was
+                                          inside diag.friction_sigma_max (its slow reading's gate) [-]; NaN: none */
+    double friction_fast_max;        /**< the largest friction of the torque signature the check judged
+                                          (diag_detect_t::friction_fast, its fast reading) [-]; NaN: none */
     double preload_rel;              /**< the filter's spring preload relative to its model's, 1 + m, at the end [-] */
     double preload_rel_sigma;        /**< its standard deviation [-] (0: no preload-error state) */
     double preload_rel_true;         /**< the plant's preload relative to the filter model's [-] */

@@ -40,6 +40,8 @@ static void sim_result_clear(sim_result_t *res)
     res->stop_learn_closed_rad = res->stop_learn_open_rad = SIM_NAN;
     res->stop_learn_onset_closed_rad = res->stop_learn_onset_open_rad = res->stop_learn_k = res->stop_learn_exponent = SIM_NAN;
     res->stop_contact_speed_max = SIM_NAN;
+    res->friction_check_max = SIM_NAN;
+    res->friction_fast_max = SIM_NAN;
     for (e = 0; e < (int)DIAG_DTC_COUNT; ++e) {
         res->dtc_confirm_t_s[e] = SIM_NAN;
         res->dtc_pending_t_s[e] = SIM_NAN;
@@ -510,6 +512,13 @@ int sim_run(const sim_options_t *opt, sim_result_t *res)
         }
         if (out.consistency != 0u) {
             ++res->consistency_flag_ticks;
+        }
+        if (out.friction_rel_sigma > TV_R(0.0) && out.friction_rel_sigma <= app->cfg.diag.friction_sigma_max &&
+            !(res->friction_check_max >= (double)out.friction_rel)) {
+            res->friction_check_max = (double)out.friction_rel;
+        }
+        if (app->ddet.friction_fast > TV_R(0.0) && !(res->friction_fast_max >= (double)app->ddet.friction_fast)) {
+            res->friction_fast_max = (double)app->ddet.friction_fast;
         }
         if (sl_running(app_stop_learn(app)) || row.mode == (int)APP_MODE_STOP_LEARN) {
             res->stop_learn_s += SIM_TICK_S;
