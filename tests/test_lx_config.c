@@ -399,6 +399,18 @@ static void test_identified_stop_learning_and_bounds_applied(void)
     TV_CHECK(app.diag.identified == 1u && app.diag.r_fit_high_frac == (tv_real_t)1.32);
     TV_CHECK_EQ_INT(parse_with("diag.r_fit_high_frac = 0.9\n", &cfg, err, sizeof err), TV_ERR_RANGE);
     TV_CHECK(strstr(err, "diag.r_fit_high_frac") != NULL);
+    /* the friction check's per-unit bounds, amending the identified set's */
+    TV_CHECK_EQ_INT(parse_with("diag.identified = 1\ndiag.friction_high_rel = 0.875\ndiag.friction_fast_high = 1.375\n"
+                               "diag.friction_fast_level_min = 0.825\n",
+                               &cfg, err, sizeof err),
+                    TV_OK);
+    app_config_default(&app);
+    lx_config_apply_app(&cfg, &app);
+    TV_CHECK(app.diag.identified == 1u && app.diag.friction_high_rel == (tv_real_t)0.875 &&
+             app.diag.friction_fast_high == (tv_real_t)1.375 && app.diag.friction_fast_level_min == (tv_real_t)0.825);
+    TV_CHECK_EQ_INT(app_init(&a, &app), TV_OK);
+    TV_CHECK_EQ_INT(parse_with("diag.friction_high_rel = 3.5\n", &cfg, err, sizeof err), TV_ERR_RANGE);
+    TV_CHECK(strstr(err, "diag.friction_high_rel") != NULL);
     /* the fit's per-unit baseline and its bounds (diag_detect.h), also with the identified bounds */
     TV_CHECK_EQ_INT(parse_with("diag.identified = 1\ndiag.fit_base_r_ohm = 4.375\ndiag.fit_base_nke_V_s = 0.625\n"
                                "diag.fit_base_windows = 24\ndiag.r_fit_base_high_frac = 1.125\n"

@@ -198,6 +198,40 @@ static void test_diag_fit_resistance_bound(void)
     TV_CHECK_EQ_INT(parse("diag.r_fit_high_frac = 3.5\n"), TV_ERR_RANGE);
 }
 
+/* The friction check's bounds (diag.friction_high_rel, friction_fast_high, friction_fast_level_min;
+ * population --friction-baseline learns a unit's own): defaults 1.7 / 1.7 / 1.3; applied after
+ * diag.identified, whose 1.15 / 1.15 / 1.1 they amend; a bound below 1 (a unit whose friction
+ * reads below its model's) accepted and taken by app_init(); 0 and above 3 refused. */
+static void test_diag_friction_bound_keys(void)
+{
+    app_config_t c;
+    static app_t a;
+    char buf[16384];
+    app_config_default(&c);
+    TV_CHECK(c.diag.friction_high_rel == (tv_real_t)1.7 && c.diag.friction_fast_high == (tv_real_t)1.7 &&
+             c.diag.friction_fast_level_min == (tv_real_t)1.3);
+    TV_CHECK_EQ_INT(parse("diag.identified = 1\ndiag.friction_high_rel = 0.875\n"), TV_OK);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    /* the identified set's signature bounds, the adapted level's amended */
+    TV_CHECK(c.diag.identified == 1u && c.diag.friction_high_rel == (tv_real_t)0.875 &&
+             c.diag.friction_fast_high == (tv_real_t)1.15 && c.diag.friction_fast_level_min == (tv_real_t)1.1);
+    TV_CHECK_EQ_INT(parse("diag.friction_high_rel = 1.25\ndiag.friction_fast_high = 1.375\ndiag.friction_fast_level_min = 1.125\n"),
+                    TV_OK);
+    app_config_default(&c);
+    TV_CHECK_EQ_INT(params_apply(&s_p, &c, s_err, sizeof s_err), TV_OK);
+    TV_CHECK(c.diag.identified == 0u && c.diag.friction_high_rel == (tv_real_t)1.25 &&
+             c.diag.friction_fast_high == (tv_real_t)1.375 && c.diag.friction_fast_level_min == (tv_real_t)1.125);
+    TV_CHECK_EQ_INT(app_init(&a, &c), TV_OK);
+    TV_CHECK(write_config(&c, buf, sizeof buf) == 0);
+    TV_CHECK(strstr(buf, "\ndiag.friction_high_rel = 1.25 ") != NULL && strstr(buf, "\ndiag.friction_fast_high = 1.375 ") != NULL &&
+             strstr(buf, "\ndiag.friction_fast_level_min = 1.125 ") != NULL);
+    c.diag.friction_high_rel = (tv_real_t)0.875;
+    TV_CHECK_EQ_INT(app_init(&a, &c), TV_OK);
+    TV_CHECK_EQ_INT(parse("diag.friction_high_rel = 0\n"), TV_ERR_RANGE);
+    TV_CHECK(has("p.txt:1: diag.friction_high_rel = 0 is out of range, allowed (0, 3]"));
+    TV_CHECK_EQ_INT(parse("diag.friction_fast_high = 3.5\n"), TV_ERR_RANGE);
+}
+
 /* The fit's per-unit baseline (diag.fit_base_*, diag_detect.h): none and not learned by default,
  * bounds 1.10 and 0.97; set, applied after diag.identified (which leaves them alone), written back;
  * a negative value, a fractional window count and bounds on the wrong side of 1 are refused; the
@@ -362,6 +396,7 @@ int main(void)
     TV_TEST_RUN(test_densities_survive_a_later_model_file);
     TV_TEST_RUN(test_diag_identified_selects_the_unit_model_bounds);
     TV_TEST_RUN(test_diag_fit_resistance_bound);
+    TV_TEST_RUN(test_diag_friction_bound_keys);
     TV_TEST_RUN(test_diag_fit_baseline_keys);
     TV_TEST_RUN(test_stop_learn_keys);
     TV_TEST_RUN(test_unknown_key_is_an_error_naming_file_line_and_key);
