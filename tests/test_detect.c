@@ -562,8 +562,14 @@ static void test_mechanics_check_timing(void)
         }
     }
     TV_CHECK(!diag_pending(&d, DIAG_DTC_P2119) && !diag_pending(&d, DIAG_DTC_P1A02));
-    /* a bound on the wrong side of 1 is refused */
-    cfg.friction_high_rel = TV_R(1.0);
+    /* the friction bounds: positive (a unit whose friction reads below its model's has its own
+     * bound below 1: "A per-unit bound of the friction check"); the preload's below 1 */
+    cfg.friction_high_rel = TV_R(0.0);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
+    cfg.friction_high_rel = TV_R(0.9);
+    TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_OK);
+    diag_detect_config_default(&cfg);
+    cfg.friction_fast_high = TV_R(0.0);
     TV_CHECK_EQ_INT(diag_detect_init(&dd, &cfg), TV_ERR_CONFIG);
     diag_detect_config_default(&cfg);
     cfg.preload_low_rel = TV_R(1.0);
@@ -3102,6 +3108,70 @@ static void test_fit_baseline_learned_and_used(void)
     }
 }
 
+/* A per-unit bound of the friction check (README "A per-unit bound of the friction check"): on a
+ * stops_varied unit (the model's friction is the unit's) the adapted level reads 1.25 under friction
+ * x 1.25 but the class's bound, 1.7, covers the units' +-30 % spread: no P2119. The unit's bound,
+ * 1.12 x the largest level (and signature friction) its check judged in healthy runs of two
+ * scenarios (population --friction-baseline takes five), catches it in the paper sine and the
+ * drive, and the healthy unit in the same runs confirms nothing. sim_result_t::friction_check_max
+ * is the level the check judged: at least the end's level, never NaN once the check ran. */
+static void test_friction_bound_per_unit(void)
+{
+    static plant_config_t pc;
+    static app_config_t ac;
+    static app_config_t uc;
+    static sim_result_t r;
+    static const sim_scenario_t learn[2] = {SIM_SCN_DRIVE, SIM_SCN_PAPER_SINE};
+    double seen = 0.0;
+    double seen_fast = 0.0;
+    int k;
+    if (!unit_config(1000u, PLANT_SPREAD_STOPS, &pc, &ac, &r)) {
+        TV_CHECK(0);
+        return;
+    }
+    for (k = 0; k < 2; ++k) {
+        sim_options_t opt;
+        sim_options_default(&opt);
+        opt.scenario = learn[k];
+        opt.duration_s = 15.0;
+        opt.seed = 900002u;
+        opt.plant = &pc;
+        opt.app = &ac;
+        opt.temp_reading = 1;
+        opt.temp_reading_C = opt.winding_temp_C;
+        TV_CHECK_EQ_INT(sim_run(&opt, &r), TV_OK);
+        TV_CHECK(isfinite(r.friction_check_max) && r.friction_check_max >= r.friction_rel - 1e-12);
+        TV_CHECK(isfinite(r.friction_fast_max));
+        seen = fmax(seen, r.friction_check_max);
+        seen_fast = fmax(seen_fast, r.friction_fast_max);
+    }
+    /* a healthy stops_varied unit: its friction reads its model's */
+    TV_CHECK(seen > 0.95 && seen < 1.06);
+    uc = ac;
+    uc.diag.friction_high_rel = (tv_real_t)(1.12 * seen);
+    uc.diag.friction_fast_high = (tv_real_t)(1.12 * seen_fast);
+    uc.diag.friction_fast_level_min = (tv_real_t)(1.12 * seen - 0.05);
+    printf("  stops_varied 1000: healthy level up to %.3f, signature %.3f: bounds %.3f, %.3f\n", seen, seen_fast,
+           (double)uc.diag.friction_high_rel, (double)uc.diag.friction_fast_high);
+    for (k = 0; k < 2; ++k) {
+        int d;
+        told_run(&pc, &ac, "friction_high:1.25@2.0", learn[k], 8.0, &r);
+        TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2119]));
+        TV_CHECK(r.friction_rel > 1.2 && r.friction_rel < 1.3);
+        told_run(&pc, &uc, "friction_high:1.25@2.0", learn[k], 8.0, &r);
+        TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2119]) && r.dtc_confirm_t_s[DIAG_DTC_P2119] > 2.0);
+        printf("  %s, friction x 1.25 at 2 s: P2119 at %.2f s with the unit's bound, none with the class's\n",
+               sim_scenario_name(learn[k]), r.dtc_confirm_t_s[DIAG_DTC_P2119]);
+        for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+            TV_CHECK(!isfinite(r.dtc_confirm_t_s[d]) || d == (int)DIAG_DTC_P2119);
+        }
+        told_run(&pc, &uc, NULL, learn[k], 8.0, &r);
+        for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
+            TV_CHECK(!isfinite(r.dtc_confirm_t_s[d]));
+        }
+    }
+}
+
 /* The offset check of the voltage equation's fit (diag_isens_fit_check()): windows reading
  * |b| >= 35 mA fail P1A04 (6 confirm), below 17.5 mA pass (the leaky counter's decrement), in
  * between nothing; a window whose variance inflation is above 50 is not judged, nor any while the
@@ -3162,6 +3232,7 @@ int main(void)
     TV_TEST_RUN(test_isens_fit_offset);
     TV_TEST_RUN(test_fit_resistance);
     TV_TEST_RUN(test_fit_baseline);
+    TV_TEST_RUN(test_friction_bound_per_unit);
     TV_TEST_RUN(test_fit_baseline_learned_and_used);
     TV_TEST_RUN(test_jam_confirmed_within_100_ms);
     TV_TEST_RUN(test_sticky_plate_jam_within_100_ms_of_stall);
