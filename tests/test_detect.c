@@ -3170,6 +3170,36 @@ static void test_friction_bound_per_unit(void)
             TV_CHECK(!isfinite(r.dtc_confirm_t_s[d]));
         }
     }
+    /* a current-sensor gain of +20 % raises the friction level too (the torque per measured ampere
+     * too large); with the fit's per-unit baseline the fit reads R low with n Ke intact, P2119 is
+     * held and P1A04 confirms first (without the hold P2119 came first in the paper sine, closed-loop
+     * steps and slow sine on every stops_varied unit of the fault matrix) */
+    {
+        sim_options_t opt;
+        static app_config_t lc;
+        lc = uc;
+        lc.diag.fit_base_windows = 16u;
+        sim_options_default(&opt);
+        opt.scenario = SIM_SCN_DRIVE;
+        opt.duration_s = 30.0;
+        opt.seed = 900002u;
+        opt.plant = &pc;
+        opt.app = &lc;
+        opt.temp_reading = 1;
+        opt.temp_reading_C = opt.winding_temp_C;
+        TV_CHECK_EQ_INT(sim_run(&opt, &r), TV_OK);
+        TV_CHECK(isfinite(r.fit_base_r_ohm) && isfinite(r.fit_base_nke_V_s));
+        uc.diag.fit_base_r_ohm = (tv_real_t)r.fit_base_r_ohm;
+        uc.diag.fit_base_nke_V_s = (tv_real_t)r.fit_base_nke_V_s;
+        for (k = 0; k < 2; ++k) {
+            static const sim_scenario_t scn[2] = {SIM_SCN_PAPER_SINE, SIM_SCN_CLOSED_STEPS};
+            told_run(&pc, &uc, "current_gain:20@2.0", scn[k], 8.0, &r);
+            TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) && r.dtc_confirm_t_s[DIAG_DTC_P1A04] > 2.0);
+            TV_CHECK(!(r.dtc_confirm_t_s[DIAG_DTC_P2119] <= r.dtc_confirm_t_s[DIAG_DTC_P1A04]));
+            printf("  %s, current gain +20 %% at 2 s: P1A04 at %.2f s, P2119 %s\n", sim_scenario_name(scn[k]),
+                   r.dtc_confirm_t_s[DIAG_DTC_P1A04], isfinite(r.dtc_confirm_t_s[DIAG_DTC_P2119]) ? "after it" : "never");
+        }
+    }
 }
 
 /* The offset check of the voltage equation's fit (diag_isens_fit_check()): windows reading
