@@ -640,6 +640,17 @@ static void json_num(FILE *f, double v)
     }
 }
 
+/* ', "key[q]": v[q]' for q < n, then the object's closing brace. */
+static void json_nums_close(FILE *f, const char *const *key, const double *v, size_t n)
+{
+    size_t q;
+    for (q = 0; q < n; ++q) {
+        fprintf(f, ", \"%s\": ", key[q]);
+        json_num(f, v[q]);
+    }
+    fputc('}', f);
+}
+
 static void json_sum(FILE *f, const pop_sum_t *s, unsigned plants)
 {
     fprintf(f, "{\"runs\": %u, \"plants\": %u, \"worst_velocity_ratio\": ", s->runs, plants);
@@ -1135,27 +1146,17 @@ int main(int argc, char **argv)
         if (s_base[sec].units > 0u) {
             const pop_base_t *b = &s_base[sec];
             const double v[] = {b->r_rel_min, b->r_rel_max, b->k_rel_min, b->k_rel_max};
-            const char *const key[] = {"r_rel_min", "r_rel_max", "nke_rel_min", "nke_rel_max"};
-            size_t q;
+            static const char *const key[] = {"r_rel_min", "r_rel_max", "nke_rel_min", "nke_rel_max"};
             fprintf(f, ",\n  \"%s_fit_baseline\": {\"units\": %u, \"failed\": %u", s_sec_name[sec], b->units, b->failed);
-            for (q = 0; q < sizeof v / sizeof v[0]; ++q) {
-                fprintf(f, ", \"%s\": ", key[q]);
-                json_num(f, v[q]);
-            }
-            fputs("}", f);
+            json_nums_close(f, key, v, sizeof v / sizeof v[0]);
         }
         if (s_fric[sec].units > 0u) {
             const pop_fric_t *b = &s_fric[sec];
-            fprintf(f, ",\n  \"%s_friction_baseline\": {\"units\": %u, \"at_class_bound\": %u, \"bound_min\": ",
-                    s_sec_name[sec], b->units, b->at_class);
-            json_num(f, b->bound_min);
-            fputs(", \"bound_max\": ", f);
-            json_num(f, b->bound_max);
-            fputs(", \"fast_bound_min\": ", f);
-            json_num(f, b->fast_min);
-            fputs(", \"fast_bound_max\": ", f);
-            json_num(f, b->fast_max);
-            fputs("}", f);
+            const double v[] = {b->bound_min, b->bound_max, b->fast_min, b->fast_max};
+            static const char *const key[] = {"bound_min", "bound_max", "fast_bound_min", "fast_bound_max"};
+            fprintf(f, ",\n  \"%s_friction_baseline\": {\"units\": %u, \"at_class_bound\": %u", s_sec_name[sec], b->units,
+                    b->at_class);
+            json_nums_close(f, key, v, sizeof v / sizeof v[0]);
         }
         fprintf(f, ",\n  \"%s_per_scenario\": {", s_sec_name[sec]);
         {
