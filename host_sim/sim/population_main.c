@@ -228,6 +228,21 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
     return sim_apply_stop_learning(&r, ac);
 }
 
+/* A healthy learning run of the baselines (--fit-baseline, --friction-baseline): plant noise seed
+ * POP_BASE_SEED (none of the scored seeds), at a cold start: the winding at the ambient temperature
+ * the ECU knows (20 degC, told exactly), whatever the scored runs' temperature and reading (so a
+ * reading's error there is not learned into a baseline, where it would cancel). */
+static int base_run(sim_scenario_t scn, double duration_s, const plant_config_t *pc, const app_config_t *ac,
+                    sim_result_t *r)
+{
+    sim_options_t opt;
+    pre_options(&opt, scn, duration_s, POP_BASE_SEED, pc, ac);
+    opt.winding_temp_C = POP_BASE_TEMP_C;
+    opt.temp_reading = 1;
+    opt.temp_reading_C = POP_BASE_TEMP_C;
+    return sim_run(&opt, r);
+}
+
 /* --fit-baseline: learn the fit's per-unit baseline (diag.fit_base_*, README "A per-unit baseline
  * of the fit") in POP_BASE_S of closed-loop driving on the healthy unit (plant noise seed
  * POP_BASE_SEED, outside the scored seeds), as an ECU does in its first minutes of service after a
@@ -235,19 +250,11 @@ static int learn_stops(const plant_config_t *pc, app_config_t *ac, pop_learn_t *
 static int learn_fit_base(const plant_config_t *pc, app_config_t *ac, uint64_t unit, pop_base_t *b)
 {
     static app_config_t lc;
-    sim_options_t opt;
     sim_result_t r;
     int rc;
     lc = *ac;
     lc.diag.fit_base_windows = POP_BASE_WINDOWS;
-    pre_options(&opt, SIM_SCN_DRIVE, POP_BASE_S, POP_BASE_SEED, pc, &lc);
-    /* at a cold start: the winding at the ambient temperature the ECU knows (20 degC, told exactly),
-     * whatever the scored runs' temperature and reading (so a reading's error there is not
-     * learned into the baseline, where it would cancel) */
-    opt.winding_temp_C = POP_BASE_TEMP_C;
-    opt.temp_reading = 1;
-    opt.temp_reading_C = POP_BASE_TEMP_C;
-    rc = sim_run(&opt, &r);
+    rc = base_run(SIM_SCN_DRIVE, POP_BASE_S, pc, &lc, &r);
     if (rc != TV_OK) {
         return rc;
     }
@@ -274,7 +281,6 @@ static int learn_fit_base(const plant_config_t *pc, app_config_t *ac, uint64_t u
  * lower than POP_FRIC_BOUND_MIN; into ac, stats into *b. */
 static int learn_friction_bound(const plant_config_t *pc, app_config_t *ac, pop_fric_t *b)
 {
-    sim_options_t opt;
     sim_result_t r;
     double seen = NAN;
     double seen_fast = NAN;
@@ -282,12 +288,7 @@ static int learn_friction_bound(const plant_config_t *pc, app_config_t *ac, pop_
     double fast;
     size_t k;
     for (k = 0; k < sizeof s_fric_scn / sizeof s_fric_scn[0]; ++k) {
-        int rc;
-        pre_options(&opt, s_fric_scn[k], POP_FRIC_S, POP_BASE_SEED, pc, ac);
-        opt.winding_temp_C = POP_BASE_TEMP_C;
-        opt.temp_reading = 1;
-        opt.temp_reading_C = POP_BASE_TEMP_C;
-        rc = sim_run(&opt, &r);
+        const int rc = base_run(s_fric_scn[k], POP_FRIC_S, pc, ac, &r);
         if (rc != TV_OK) {
             return rc;
         }
