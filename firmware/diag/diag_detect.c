@@ -885,17 +885,16 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
         if (dd->r_low && dd->gain_wait < 0xFFFFu) {
             ++dd->gain_wait;
         }
-        if (dd->r_low && (preload_rel > dd->cfg.gain_mech_min || dd->gain_wait <= dd->cfg.gain_hold_checks || dd->r_low_known)) {
+        if ((dd->r_low && (preload_rel > dd->cfg.gain_mech_min || dd->gain_wait <= dd->cfg.gain_hold_checks || dd->r_low_known)) ||
+            dd->r_fit_low_n > 0u) {
             /* the apparent resistance is down: raised friction may be the motor-constant
              * signature above, which decides first (no P2119 failure meanwhile) while the preload
              * is up too, while the temperature is known and R below gain_r_known_max (no cold
              * winding), or for gain_hold_checks checks; friction up alone after that (ice on a
-             * cold winding) fails P2119 as before */
-        } else if (dd->r_fit_low_n > 0u) {
-            /* the voltage equation's fit reads R below the unit's baseline with n Ke intact: a
-             * current-sensor gain above 1, whose torque per measured ampere the friction state
-             * takes up; P1A04 decides in DIAG_R_FIT_LOW_WINDOWS windows (no P2119 failure
-             * meanwhile). More friction leaves the fit's R where it was */
+             * cold winding) fails P2119 as before. Likewise while the voltage equation's fit
+             * reads R below the unit's baseline with n Ke intact: a current-sensor gain above 1,
+             * whose torque per measured ampere the friction state takes up; P1A04 decides in
+             * DIAG_R_FIT_LOW_WINDOWS windows. More friction leaves the fit's R where it was */
         } else if (fast && ff > dd->cfg.friction_fast_high && pf >= dd->cfg.friction_fast_preload_min &&
             friction_rel >= dd->cfg.friction_fast_level_min) {
             (void)diag_report(d, DIAG_DTC_P2119, DIAG_FAIL, snap, ff);
