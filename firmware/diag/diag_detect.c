@@ -158,6 +158,7 @@ int diag_detect_init(diag_detect_t *dd, const diag_detect_config_t *cfg)
     dd->probe_pre_ref = TV_R(1.0);
     dd->probe_fric_ref = TV_R(1.0);
     dd->probe_pre_lag = TV_R(1.0);
+    dd->r_fit_calm_age = 0xFFu; /* no calm window yet */
     dd->probe_fric_lag = TV_R(1.0);
     (void)diag_detect_set_preload(dd, (tv_real_t)TV_PAPER_M0_NM, (tv_real_t)(TV_PAPER_N_GEAR * TV_PAPER_KT_NM_A));
     return TV_OK;
@@ -598,9 +599,28 @@ void diag_fit_resistance_check(diag_detect_t *dd, const diag_t *d, int active, t
     if (!active || !TV_IS_FINITE(r_ratio) || !TV_IS_FINITE(ke_ratio) || !base ||
         any_active(d, circuit, sizeof circuit / sizeof circuit[0])) {
         dd->r_fit_low_n = 0u;
+        dd->r_fit_up_n = 0u;
     } else {
         dd->r_fit_ratio = r_ratio;
         count_windows(&dd->r_fit_low_n, r_ratio < dd->cfg.gain_fit_base_max && ke_ratio > dd->cfg.ke_short_max,
+                      (uint8_t)DIAG_R_FIT_LOW_WINDOWS);
+        /* the mirror, R above 1 / gain_fit_base_max of the baseline but not P2101's bound: a gain
+         * below 1, or a winding a few per cent up; the mechanics tell which (diag_param_check()).
+         * Only as a step: a run of such windows begins within DIAG_R_FIT_UP_ONSET windows of one
+         * that read R within half that margin, or of the first window judged (a winding drifting
+         * up passes slowly through the band, and a unit of the class's model may read its levels
+         * below the class's anyway) */
+        const tv_real_t up = TV_R(1.0) / dd->cfg.gain_fit_base_max;
+        if (r_ratio <= TV_R(0.5) * (TV_R(1.0) + up)) {
+            dd->r_fit_calm_age = 0u;
+        } else if (dd->r_fit_calm_age == 0xFFu) {
+            dd->r_fit_calm_age = 1u; /* the first window judged: as after a calm one (a gain from power-up) */
+        } else if (dd->r_fit_calm_age < 0xFEu) {
+            ++dd->r_fit_calm_age;
+        }
+        count_windows(&dd->r_fit_up_n,
+                      r_ratio > up && !(r_ratio > dd->cfg.r_fit_base_high_frac) && ke_ratio > dd->cfg.ke_short_max &&
+                          (dd->r_fit_up_n > 0u || dd->r_fit_calm_age <= DIAG_R_FIT_UP_ONSET),
                       (uint8_t)DIAG_R_FIT_LOW_WINDOWS);
     }
     if (!active || !TV_IS_FINITE(r_ratio) || any_active(d, other, sizeof other / sizeof other[0])) {
@@ -815,6 +835,13 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
          * Held for isens_sig_checks checks in a row: a resistance step dips the preload for a
          * few checks while the estimator catches up. */
         int offset_sig;
+        /* on a unit of the class's model with the fit's per-unit baseline: the fit's R a few per
+         * cent above the baseline's with n Ke intact (diag_fit_resistance_check()) stands for the
+         * apparent resistance up, the levels as the estimator adapted them (their deficit is the
+         * gain's where the model's mechanics are the unit's; on a unit of the class's model only
+         * where the unit's own sit at or above the class's: README "A current gain below 1 from
+         * the fit") */
+        const int fit_up = !dd->cfg.identified && dd->r_fit_up_n >= DIAG_R_FIT_LOW_WINDOWS;
         if (m_ok && f_ok) {
             /* either level low: in the 12 V sine the friction state alone takes up a gain below 1
              * (measured: gain -5 %, identified unit 1000, 1 + f 0.876 with 1 + m 0.996, R 1.053);
@@ -827,8 +854,8 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
              * per cent while the estimator catches up). Low levels hold P2101 as well
              * (diag_resistance_check()): not where they cannot explain R */
             dd->mech_low = 0u;
-            if (dd->cfg.identified) {
-                const tv_real_t excess = dd->r_ratio - TV_R(1.0);
+            if (dd->cfg.identified || fit_up) {
+                const tv_real_t excess = (dd->cfg.identified ? dd->r_ratio : dd->r_fit_ratio) - TV_R(1.0);
                 const tv_real_t deficit = TV_R(1.0) - (preload_rel < friction_rel ? preload_rel : friction_rel);
                 const int level_low = preload_rel * dd->cfg.gain_mech_min < TV_R(1.0) ||
                                       (friction_rel < dd->cfg.isens_sig_friction_low && TV_R(1.0) - friction_rel > excess);
@@ -847,13 +874,14 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
          * 2.5 - 30 % low with R as it was is also a fatigued spring. The R-free reading waits
          * while a mechanics code is pending or confirmed. The identified flag first: every term
          * but it needs one, and a class model then pays one test (the Cortex-M4F budget). */
-        offset_sig = dd->cfg.identified && m_ok && !motor_or_jam(d) &&
-                     ((dd->r_high && dd->mech_low && f_ok && friction_rel <= dd->cfg.friction_high_rel) ||
-                      (f_ok && friction_rel < dd->cfg.gain_mech_min && friction_rel * dd->cfg.gain_mech_min > TV_R(1.0) &&
-                       preload_rel > dd->cfg.gain_mech_min && (dd->r_low || (!dd->r_high && !mechanics_coded(d)))));
+        offset_sig = (dd->cfg.identified && m_ok && !motor_or_jam(d) &&
+                      ((dd->r_high && dd->mech_low && f_ok && friction_rel <= dd->cfg.friction_high_rel) ||
+                       (f_ok && friction_rel < dd->cfg.gain_mech_min && friction_rel * dd->cfg.gain_mech_min > TV_R(1.0) &&
+                        preload_rel > dd->cfg.gain_mech_min && (dd->r_low || (!dd->r_high && !mechanics_coded(d)))))) ||
+                     (fit_up && dd->mech_low && !motor_or_jam(d) && friction_rel <= dd->cfg.friction_high_rel);
         dd->offset_sig_n = offset_sig ? (uint16_t)(dd->offset_sig_n + (dd->offset_sig_n < 0xFFFFu ? 1u : 0u)) : 0u;
         if (dd->offset_sig_n >= dd->cfg.isens_sig_checks) {
-            (void)diag_report(d, DIAG_DTC_P1A04, DIAG_FAIL, snap, dd->r_ratio);
+            (void)diag_report(d, DIAG_DTC_P1A04, DIAG_FAIL, snap, fit_up ? dd->r_fit_ratio : dd->r_ratio);
         }
     }
     if (dd->r_low && (dd->kw_ok || dd->kw_short) && friction_rel > dd->cfg.gain_mech_min &&
@@ -886,7 +914,7 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
             ++dd->gain_wait;
         }
         if ((dd->r_low && (preload_rel > dd->cfg.gain_mech_min || dd->gain_wait <= dd->cfg.gain_hold_checks || dd->r_low_known)) ||
-            dd->r_fit_low_n > 0u) {
+            dd->r_fit_low_n > 0u || dd->ke_low_n > 0u) {
             /* the apparent resistance is down: raised friction may be the motor-constant
              * signature above, which decides first (no P2119 failure meanwhile) while the preload
              * is up too, while the temperature is known and R below gain_r_known_max (no cold
@@ -894,7 +922,10 @@ void diag_param_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t w_rad_
              * cold winding) fails P2119 as before. Likewise while the voltage equation's fit
              * reads R below the unit's baseline with n Ke intact: a current-sensor gain above 1,
              * whose torque per measured ampere the friction state takes up; P1A04 decides in
-             * DIAG_R_FIT_LOW_WINDOWS windows. More friction leaves the fit's R where it was */
+             * DIAG_R_FIT_LOW_WINDOWS windows. More friction leaves the fit's R where it was.
+             * And while the fit reads n Ke low (a window counted by diag_backemf_check()): shorted
+             * turns lower Kt with Ke, the friction state takes up the missing torque (the slow
+             * sine's rose above a unit's own bound 0.4 s before the back-EMF check's P1A01) */
         } else if (fast && ff > dd->cfg.friction_fast_high && pf >= dd->cfg.friction_fast_preload_min &&
             friction_rel >= dd->cfg.friction_fast_level_min) {
             (void)diag_report(d, DIAG_DTC_P2119, DIAG_FAIL, snap, ff);

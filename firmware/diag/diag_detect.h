@@ -673,6 +673,13 @@ typedef struct {
                                 freeze value while the fit fails it) */
     uint8_t r_fit_low_n;   /**< with a baseline: windows in a row whose R read below gain_fit_base_max of it
                                 with n Ke as it was (saturating at DIAG_R_FIT_LOW_WINDOWS) */
+    uint8_t r_fit_up_n;    /**< with a baseline: windows in a row whose R read above 1 / gain_fit_base_max of it
+                                and at most r_fit_base_high_frac with n Ke as it was (saturating at
+                                DIAG_R_FIT_LOW_WINDOWS): on a unit that is not identified, the offset
+                                signature's apparent resistance up (diag_param_check()) */
+    uint8_t r_fit_calm_age; /**< with a baseline: windows since one read R at most halfway to 1 /
+                                gain_fit_base_max of it (saturating at 254; 255 before the first window
+                                judged, which counts as 1 after a calm one when it reads above) */
     uint16_t gain_wait;    /**< mechanics checks since r_low was set (saturating) */
     uint16_t offset_sig_n; /**< mechanics checks in a row that read the offset signature (saturating) */
     uint8_t probe_t;       /**< steps into the running probe (0: none running) */
@@ -839,6 +846,13 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
  * their n Ke follows (20 % of the turns: P1A04 first, about 0.6 s after the onset, in 23 of the
  * fault matrix's 150 runs with 3). */
 #define DIAG_R_FIT_LOW_WINDOWS 5u
+
+/** Windows of the fit after the latest one that read R at most halfway to 1 / gain_fit_base_max of
+ * the baseline within which a run of windows reading R above it may begin (the offset signature's
+ * R up on a unit that is not identified, diag_param_check()): a step of the apparent resistance
+ * (a current gain below 1) enters the fit's sliding window of 4 blocks over 4 windows; a winding
+ * drifting up by +50 % over 200 s takes about 25 windows to cross the half. */
+#define DIAG_R_FIT_UP_ONSET 4u
 
 /**
  * The fit's resistance check (P2101): one window of the voltage equation's fit (volt_fit.h), called
