@@ -3138,6 +3138,20 @@ static void test_fit_baseline_learned_and_used(void)
     }
 }
 
+/* The fit's per-unit baseline as population --fit-baseline learns it (30 s of healthy driving,
+ * 16 windows summed) into ac's diag.fit_base_r_ohm and diag.fit_base_nke_V_s. */
+static void learn_fit_baseline(const plant_config_t *pc, app_config_t *ac)
+{
+    static app_config_t lc;
+    static sim_result_t r;
+    lc = *ac;
+    lc.diag.fit_base_windows = 16u;
+    learning_run(pc, &lc, SIM_SCN_DRIVE, 30.0, &r);
+    TV_CHECK(isfinite(r.fit_base_r_ohm) && isfinite(r.fit_base_nke_V_s));
+    ac->diag.fit_base_r_ohm = (tv_real_t)r.fit_base_r_ohm;
+    ac->diag.fit_base_nke_V_s = (tv_real_t)r.fit_base_nke_V_s;
+}
+
 /* The friction check's per-unit bounds as population --friction-baseline learns them, from 15 s
  * learning runs of the n scenarios on the healthy unit: *uc = *ac with diag.friction_high_rel 1.12 x
  * the largest level the check judged, diag.friction_fast_high 1.12 x the largest signature friction,
@@ -3210,13 +3224,7 @@ static void test_friction_bound_per_unit(void)
      * held and P1A04 confirms first (without the hold P2119 came first in the paper sine, closed-loop
      * steps and slow sine on every stops_varied unit of the fault matrix) */
     {
-        static app_config_t lc;
-        lc = uc;
-        lc.diag.fit_base_windows = 16u;
-        learning_run(&pc, &lc, SIM_SCN_DRIVE, 30.0, &r);
-        TV_CHECK(isfinite(r.fit_base_r_ohm) && isfinite(r.fit_base_nke_V_s));
-        uc.diag.fit_base_r_ohm = (tv_real_t)r.fit_base_r_ohm;
-        uc.diag.fit_base_nke_V_s = (tv_real_t)r.fit_base_nke_V_s;
+        learn_fit_baseline(&pc, &uc);
         for (k = 0; k < 2; ++k) {
             static const sim_scenario_t scn[2] = {SIM_SCN_PAPER_SINE, SIM_SCN_CLOSED_STEPS};
             told_run(&pc, &uc, "current_gain:20@2.0", scn[k], 8.0, &r);
@@ -3238,7 +3246,6 @@ static void test_current_gain_below_one_fit(void)
 {
     static plant_config_t pc;
     static app_config_t ac;
-    static app_config_t lc;
     static sim_result_t r;
     int d;
     if (!unit_config(1000u, PLANT_SPREAD_STOPS, &pc, &ac, &r)) {
@@ -3247,12 +3254,7 @@ static void test_current_gain_below_one_fit(void)
     }
     told_run(&pc, &ac, "current_gain:-5@2.0", SIM_SCN_DRIVE, 30.0, &r);
     TV_CHECK(!isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]));
-    lc = ac;
-    lc.diag.fit_base_windows = 16u;
-    learning_run(&pc, &lc, SIM_SCN_DRIVE, 30.0, &r);
-    TV_CHECK(isfinite(r.fit_base_r_ohm) && isfinite(r.fit_base_nke_V_s));
-    ac.diag.fit_base_r_ohm = (tv_real_t)r.fit_base_r_ohm;
-    ac.diag.fit_base_nke_V_s = (tv_real_t)r.fit_base_nke_V_s;
+    learn_fit_baseline(&pc, &ac);
     told_run(&pc, &ac, "current_gain:-5@2.0", SIM_SCN_DRIVE, 30.0, &r);
     TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A04]) && r.dtc_confirm_t_s[DIAG_DTC_P1A04] > 2.0);
     for (d = 0; d < (int)DIAG_DTC_COUNT; ++d) {
@@ -3281,7 +3283,6 @@ static void test_shorted_turns_own_friction_bound(void)
     static plant_config_t pc;
     static app_config_t ac;
     static app_config_t uc;
-    static app_config_t lc;
     static sim_result_t r;
     static const sim_scenario_t learn[2] = {SIM_SCN_DRIVE, SIM_SCN_SLOW_SINE};
     int d;
@@ -3290,12 +3291,7 @@ static void test_shorted_turns_own_friction_bound(void)
         return;
     }
     (void)learn_friction_bound(&pc, &ac, learn, 2, &uc);
-    lc = uc;
-    lc.diag.fit_base_windows = 16u;
-    learning_run(&pc, &lc, SIM_SCN_DRIVE, 30.0, &r);
-    TV_CHECK(isfinite(r.fit_base_r_ohm) && isfinite(r.fit_base_nke_V_s));
-    uc.diag.fit_base_r_ohm = (tv_real_t)r.fit_base_r_ohm;
-    uc.diag.fit_base_nke_V_s = (tv_real_t)r.fit_base_nke_V_s;
+    learn_fit_baseline(&pc, &uc);
     told_run(&pc, &uc, "winding_short:0.2@2.0", SIM_SCN_SLOW_SINE, 8.0, &r);
     TV_CHECK(isfinite(r.dtc_confirm_t_s[DIAG_DTC_P1A01]) && r.dtc_confirm_t_s[DIAG_DTC_P1A01] > 2.0);
     TV_CHECK(!(r.dtc_confirm_t_s[DIAG_DTC_P2119] <= r.dtc_confirm_t_s[DIAG_DTC_P1A01]));

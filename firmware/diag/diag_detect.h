@@ -222,7 +222,13 @@
  *     and on class b's larger holding currents +50 mA moves R by only 1 - 3 %: README "The
  *     preload up without the resistance"; the low side keeps its resistance term, a preload a
  *     few per cent low with R as it was being also a fatigued spring);
- *     their sigmas within the mechanics checks' bounds, no open winding or jam code. While 1 + m
+ *     their sigmas within the mechanics checks' bounds, no open winding or jam code. On a unit
+ *     that is not identified but has the fit's per-unit baseline, the first reading only, with
+ *     the fit's R over the baseline's standing for the apparent resistance once r_fit_up_n
+ *     reached DIAG_R_FIT_LOW_WINDOWS (diag_fit_resistance_check(): a step of the fit's R above
+ *     1 / gain_fit_base_max, at most r_fit_base_high_frac, n Ke intact): a gain below 1 (the
+ *     levels read g where the model's mechanics are the unit's; README "A current gain below 1
+ *     from the fit"). While 1 + m
  *     or 1 + f reads that low with the temperature known, P2101 is not failed (no verdict).
  *
  * Pure C99, no heap, no globals; fixed cost per call.
@@ -545,7 +551,8 @@ typedef struct {
                                        gain of -5 % in the 12 V sine: 0.80-0.91; class b's healthy
                                        friction 0.98, 0.97 for a second after a resistance step, which
                                        with 0.976 held P2101 1-2 s) */
-    uint16_t isens_sig_checks;    /**< OFFSET SIGNATURE (identified units): P1A04 fails once the apparent
+    uint16_t isens_sig_checks;    /**< OFFSET SIGNATURE (identified units, or the fit's R up against its
+                                       per-unit baseline): P1A04 fails once the apparent
                                        resistance and the preload have read off together, the friction as
                                        it was, for this many mechanics checks in a row [checks], > 0;
                                        default 30 (300 ms of motion: a resistance x2 dips the preload for
@@ -868,7 +875,11 @@ void diag_resistance_check(diag_detect_t *dd, diag_t *d, int active, tv_real_t c
  * With a per-unit baseline (base 1: r_ratio and ke_ratio are relative to it) the bound is
  * r_fit_base_high_frac, and DIAG_R_FIT_LOW_WINDOWS windows in a row whose R reads below
  * gain_fit_base_max with n Ke above ke_short_max read a current-sensor gain: the resistance check
- * then fails P1A04 at each driven step until a window reads otherwise.
+ * then fails P1A04 at each driven step until a window reads otherwise. Windows in a row whose R
+ * reads above 1 / gain_fit_base_max and at most r_fit_base_high_frac with n Ke above ke_short_max,
+ * the run begun within DIAG_R_FIT_UP_ONSET windows of one reading R at most halfway to 1 /
+ * gain_fit_base_max (or of the first window judged), count in r_fit_up_n: on a unit that is not
+ * identified, the offset signature's R up (diag_param_check()).
  * @param active   1 when the window was the model in service with the winding's temperature known
  * @param r_ratio  the fit's R over the model's (or the baseline's) at the winding's temperature [-]
  * @param ke_ratio the fit's n Ke over the model's (or the baseline's) [-]
